@@ -1,0 +1,22 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+#ifndef OPENCV_FORESTMOD_HPP
+#define OPENCV_FORESTMOD_HPP
+
+#include "opencv2/forestmod/hue.hpp"
+
+/** @defgroup forestmod Fuzzy template forest for real-time 6-DoF pose estimation
+
+Real-time, background-aware pose estimation of texture-less objects in RGB-D images after
+Shao, Tang and Kim @cite shao2016forest : LINEMOD templates @cite hinterstoisser2012gradient
+rendered from CAD meshes are indexed by a fuzzy random forest whose nodes carry a preemptive
+background rejector; candidates of a leaf are validated breadth-first.
+
+  @{
+    @defgroup forestmod_hue Quantized hue modality (LINEMOD's colour cue)
+  @}
+*/
+
+#endif // OPENCV_FORESTMOD_HPP

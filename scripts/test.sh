@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# The whole test suite: sets up and builds (scripts/setup.sh, idempotent), then runs CTest:
+# opencv_test_forestmod (accuracy), opencv_sanity_forestmod (a short run of every perf test) and
+# forestmod_install_consumer (install + find_package(forestmod) from another project).
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${FORESTMOD_BUILD_DIR:-$root/build}
+"$root/scripts/setup.sh"
+cd "$build"
+ctest --output-on-failure --timeout 1500 "$@"

@@ -1,0 +1,23 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+#ifndef OPENCV_FORESTMOD_TEST_PRECOMP_HPP
+#define OPENCV_FORESTMOD_TEST_PRECOMP_HPP
+
+#include "opencv2/ts.hpp"
+#include "opencv2/forestmod.hpp"
+#include "opencv2/imgproc.hpp"
+#include "opencv2/imgcodecs.hpp"
+#include "opencv2/core/utils/filesystem.hpp"
+
+#include <set>
+
+namespace opencv_test {
+using namespace cv::forestmod;
+
+/** Root of the optional real data (../shared/data: lmo/, real_rgbd/), or "" when absent. */
+std::string sharedDataPath();
+} // namespace opencv_test
+
+#endif
