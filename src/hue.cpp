@@ -129,10 +129,13 @@ public:
 private:
     void update()
     {
-        Mat smoothed = src_;
+        // a new buffer: `smoothed = src_` would share the caller's pixels and blur them in place
+        Mat smoothed;
         if (params_.blur_size > 1)
             GaussianBlur(src_, smoothed, Size(params_.blur_size, params_.blur_size), 0, 0,
                          BORDER_REPLICATE);
+        else
+            smoothed = src_;
         quantizeHue(smoothed, quantized_, params_.saturation_threshold, params_.value_threshold);
         Mat hsv;
         cvtColor(smoothed, hsv, COLOR_BGR2HSV);

@@ -299,6 +299,19 @@ TEST(Forestmod_Hue, read_write_roundtrip)
     EXPECT_THROW(back->read(in3["m"]), cv::Exception);
 }
 
+TEST(Forestmod_Hue, does_not_modify_its_input)
+{
+    RNG rng(2);
+    Mat img(60, 80, CV_8UC3);
+    rng.fill(img, RNG::UNIFORM, Scalar::all(0), Scalar::all(256));
+    const Mat copy = img.clone();
+    Mat q;
+    Ptr<linemod::QuantizedPyramid> qp = ColorHue::create()->process(img);
+    qp->quantize(q);
+    qp->pyrDown();
+    EXPECT_EQ(0, cvtest::norm(img, copy, NORM_INF));
+}
+
 TEST(Forestmod_Hue, bad_input_raises)
 {
     Ptr<ColorHue> hue = ColorHue::create();
