@@ -217,6 +217,22 @@ String TemplateForest::getDefaultName() const
     return "forestmod.TemplateForest";
 }
 
+String TemplateForest::storageKey()
+{
+    return "forestmod_TemplateForest";
+}
+
+void TemplateForest::save(const String& filename) const
+{
+    FileStorage fs(filename, FileStorage::WRITE);
+    if (!fs.isOpened())
+        CV_Error_(Error::StsError, ("TemplateForest::save: cannot open '%s' for writing",
+                                    filename.c_str()));
+    fs << storageKey() << "{";
+    write(fs);
+    fs << "}";
+}
+
 // ------------------------------------------------------------------------------------------------
 // Implementation
 

@@ -125,7 +125,7 @@ static Mat uniformBackground(int count, int D, uint64 seed)
 static std::string serialize(const TemplateForest& forest)
 {
     FileStorage fs("forest.yml", FileStorage::WRITE + FileStorage::MEMORY);
-    fs << forest.getDefaultName() << "{";
+    fs << TemplateForest::storageKey() << "{";
     forest.write(fs);
     fs << "}";
     return fs.releaseAndGetString();
@@ -268,6 +268,7 @@ TEST(Forestmod_TemplateForest, structure)
 TEST(Forestmod_TemplateForest, visits_grow_like_log_n)
 {
     ForestParams p;
+    p.num_trees = 1;
     p.max_depth = 30;   // let the size of the data alone decide the depth
     double visited[3];
     const int sizes[3] = {100, 1000, 10000};
@@ -429,8 +430,9 @@ TEST(Forestmod_TemplateForest, refuses_bad_input)
     f->train(desc, fg);   // all identical: no split possible, one leaf with everything
     ASSERT_TRUE(f->query(desc.ptr<uchar>(0), cand));
     EXPECT_EQ(10u, cand.size());
-    EXPECT_EQ(1, f->statistics().nodes);
-    EXPECT_THROW(f->queryTree(1, LocationView(), cand), cv::Exception);
+    EXPECT_EQ(f->getParams().num_trees, f->statistics().nodes);   // one leaf per tree
+    EXPECT_THROW(f->queryTree(f->getParams().num_trees, LocationView(), cand), cv::Exception);
+    EXPECT_THROW(f->queryTree(-1, LocationView(), cand), cv::Exception);
 }
 
 TEST(Forestmod_TemplateForest, params_read_write)

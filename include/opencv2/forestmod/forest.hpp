@@ -215,6 +215,14 @@ public:
 
     /** @brief "forestmod.TemplateForest". */
     virtual String getDefaultName() const CV_OVERRIDE;
+
+    /** @brief Writes the forest to a file (YAML/XML/JSON, optionally .gz) under the top-level key
+    storageKey(). (Algorithm::save would use getDefaultName(), whose '.' FileStorage refuses in a
+    key.) Read it back with load() or Algorithm::load<TemplateForest>(). */
+    CV_WRAP virtual void save(const String& filename) const CV_OVERRIDE;
+
+    /** @brief "forestmod_TemplateForest": the top-level FileStorage key used by save(). */
+    static String storageKey();
 };
 
 //! @}
