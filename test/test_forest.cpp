@@ -224,6 +224,55 @@ TEST(Forestmod_TemplateForest, rejects_background)
     EXPECT_EQ(su.rejected, cvRound(uni * 3000));
 }
 
+TEST(Forestmod_TemplateForest, tree_votes)
+{
+    // all-vote (default) rejects a location only when every tree does; any-vote when one does
+    ForestParams p;
+    p.num_trees = 3;
+    Data d = makeData(600, 3, 35, p);
+    Ptr<TemplateForest> all = TemplateForest::create(p);
+    all->train(d.desc, d.fg);
+    p.reject_any_tree = true;
+    Ptr<TemplateForest> any = TemplateForest::create(p);
+    any->train(d.desc, d.fg);   // same seed: same trees
+    Mat q = uniformBackground(1000, d.desc.cols, 36);
+    RNG rng(37);
+    Mat noisy(1000, d.desc.cols, CV_8U);
+    for (int i = 0; i < 1000; ++i)
+        perturb(d.noisy.ptr<uchar>(i % 600), d.desc.cols, 0.2, rng, noisy.ptr<uchar>(i));
+    vconcat(q, noisy, q);
+    std::vector<int> ca, cb, ct;
+    int only_any = 0;
+    for (int i = 0; i < q.rows; ++i)
+    {
+        const bool a = all->query(q.ptr<uchar>(i), ca);
+        const bool b = any->query(q.ptr<uchar>(i), cb);
+        ASSERT_TRUE(a || !b) << "any-vote accepted what all-vote rejected";
+        int trees_ok = 0;
+        for (int t = 0; t < 3; ++t)
+        {
+            const uchar* planes[1] = {q.ptr<uchar>(i)};
+            std::vector<int> delta(q.cols), plane_of(q.cols, 0);
+            for (int j = 0; j < q.cols; ++j)
+                delta[j] = j;
+            LocationView v;
+            v.planes = planes;
+            v.plane_of = &plane_of[0];
+            v.delta = &delta[0];
+            v.offset = 0;
+            trees_ok += all->queryTree(t, v, ct) ? 1 : 0;
+        }
+        ASSERT_EQ(a, trees_ok > 0);
+        ASSERT_EQ(b, trees_ok == 3);
+        if (b)
+        {
+            ASSERT_EQ(ca, cb);
+        }
+        only_any += a && !b;
+    }
+    EXPECT_GT(only_any, 0);   // the two policies differ on these data
+}
+
 TEST(Forestmod_TemplateForest, structure)
 {
     ForestParams p;
