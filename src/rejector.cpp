@@ -4,12 +4,14 @@
 
 // Preemptive background rejector (paper: "Preemptive Background Rejector").
 //
-// The rejector of a node needs no negative samples: it keeps the dimensions where the node's
-// templates agree most (lowest entropy of their foreground values), and for each a look-up table
-// of the values whose frequency is above rho. A location whose share of accepted values is below
-// tau_r cannot be one of the node's templates and leaves the forest. Off-mask (noise) values of
-// the templates never define a table; the threshold is lowered per node when needed so that no
-// training template is rejected on its own path.
+// The rejector of a node needs no negative samples: it keeps dimensions where the node's
+// templates agree most (lowest entropy of their on-mask labels), and for each a look-up table of
+// the labels whose frequency is above rho. A location with too few accepted values cannot be one
+// of the node's templates and leaves the forest. Off-mask (noise) values never define a table and
+// 0 ("no feature") is never accepted. The threshold is the largest that keeps every template whose
+// own crisp path passes the node accepted even with a share `noise` of its values corrupted
+// (probability 0.999), at most ceil(tau_r * K); of the prefixes of the entropy ranking the one that
+// separates uniform background best is kept. Decisions and numbers: doc/forest.md.
 
 #include "precomp.hpp"
 #include "rejector.hpp"

@@ -51,7 +51,7 @@ class BackgroundRejectorTrainer
 public:
     struct Config
     {
-        int dims;        //!< wanted number of dimensions (K)
+        int dims;        //!< maximum number of dimensions (K)
         float rho;       //!< LUT: value frequency among the foreground templates > rho
         float tau;       //!< reject when accepted share < tau
         float coverage;  //!< min share of templates with a label on the mask at a dimension
@@ -65,9 +65,10 @@ public:
     @param ids   the node's templates (rows of codes), n of them.
     @param core  per template of ids: nonzero when the template's own crisp path passes the node
                  (it keeps a noise allowance); the others (fuzzy duplicates) only pass clean.
-    Appends the chosen dims and LUTs to @p dims_out / @p lut_out; returns the count chosen and sets
-    @p min_accept (already lowered so that none of the node's templates is rejected) and
-    @p lowered (whether it had to be lowered below ceil(tau * count)). */
+    Appends the chosen dims and LUTs to @p dims_out / @p lut_out; returns the count chosen (0: no
+    rejector at this node) and sets @p min_accept (low enough that no core template is rejected,
+    even with a share cfg.noise of its values corrupted, with probability 0.999) and @p lowered
+    (whether it is below ceil(tau * count)). */
     static int train(const Mat& codes, const Mat& fg, const std::vector<int>& ids,
                      const std::vector<uchar>& core, const Config& cfg, std::vector<int>& dims_out, std::vector<ushort>& lut_out,
                      int& min_accept, bool& lowered);

@@ -159,7 +159,8 @@ public:
         int max_depth;                    //!< deepest leaf (root = 0)
         double mean_leaf_size;            //!< templates per leaf, mean over leaves
         double mean_leaves_per_template;  //!< leaves a template lands in, per tree, mean
-        double lowered_rejectors;         //!< share of nodes whose tau_r was lowered (self-recall)
+        double lowered_rejectors;         //!< share of nodes whose threshold is below tau_r
+                                          //!< (kept low for their templates' guarantee)
         size_t bytes;                     //!< memory of the node arrays
     };
 
