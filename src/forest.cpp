@@ -579,12 +579,17 @@ public:
 
         const int dsplit = std::min(std::min(params_.split_dims, desc.cols), 64);
         std::vector<Tree> trees(params_.num_trees);
-        for (int t = 0; t < params_.num_trees; ++t)
-        {
-            TreeBuilder builder(codes, fgc, params_, dsplit,
-                                mixSeed((uint64)(int64)params_.seed, 1000003ULL * (t + 1)));
-            builder.build(trees[t]);
-        }
+        // trees in parallel (each has its own random stream: the result does not depend on the
+        // schedule); inside a tree, the candidates of big nodes are evaluated in parallel too
+        const ForestParams& params = params_;
+        parallel_for_(Range(0, params.num_trees), [&](const Range& r) {
+            for (int t = r.start; t < r.end; ++t)
+            {
+                TreeBuilder builder(codes, fgc, params, dsplit,
+                                    mixSeed((uint64)(int64)params.seed, 1000003ULL * (t + 1)));
+                builder.build(trees[t]);
+            }
+        });
         trees_.swap(trees);
         D_ = desc.cols;
         N_ = desc.rows;
