@@ -44,7 +44,11 @@ static const char* keys =
     "{rcov           | -1   | rejector_coverage }"
     "{rnoise         | -1   | rejector_noise }"
     "{any            | -1   | reject_any_tree (0/1) }"
-    "{seed           | -1   | seed }";
+    "{seed           | -1   | seed }"
+    "{shift          | 0    | also query views re-rendered with the window misaligned by up to this "
+    "many grid steps (uniform in x and y), on new background, with --noise corruption }"
+    "{qspread        | 0    | with --shift: OR the values sampled over +-qspread/2 grid steps around "
+    "each point (what a spread image holds) }";
 
 static void orSpread(const Mat& src, Mat& dst, int T)
 {
@@ -145,7 +149,8 @@ int main(int argc, char** argv)
     }
 
     Mat desc, fg, trained;
-    makeTemplates(n, objects, G, 12345, desc, fg);
+    std::vector<View> views;
+    makeTemplates(n, objects, G, 12345, desc, fg, 0, 0.5, 0.95, &views);
     Ptr<TemplateForest> forest = TemplateForest::create(p);
     TickMeter tm;
     tm.start();
@@ -173,7 +178,7 @@ int main(int argc, char** argv)
 
     RNG rng(5);
     std::vector<uchar> q(D);
-    for (int fresh = 0; fresh < 2; ++fresh)
+    for (int fresh = 0; fresh < 3; ++fresh)
     {
         int hit = 0, rej = 0;
         double nc = 0;
@@ -187,6 +192,16 @@ int main(int argc, char** argv)
                 for (int j = 0; j < D; ++j)
                     if (!fg.at<uchar>(t, j))
                         q[j] = randomValue(rng);
+            if (fresh == 2)   // spread-like: neighbouring labels OR-ed in, as spread images do
+                for (int j = 0; j < D; ++j)
+                {
+                    const int v = q[j];
+                    if (v && rng.uniform(0., 1.) < 0.5)
+                        q[j] = (uchar)(v | ((v << 1) | (v >> 1) | (v == 1 ? 128 : 0) |
+                                            (v == 128 ? 1 : 0)));
+                    else if (!v && rng.uniform(0., 1.) < 0.3)
+                        q[j] = (uchar)(1 << rng.uniform(0, 8));
+                }
             tq.start();
             const bool ok = forest->query(&q[0], cand, 0, &s);
             tq.stop();
@@ -200,9 +215,52 @@ int main(int argc, char** argv)
         }
         std::printf("%s, %g %% corrupted: recall %.4f, rejected %.4f, candidates %.1f, nodes "
                     "visited %.1f, %.2f us/query\n",
-                    fresh ? "templates on new background" : "templates", noise * 100,
+                    fresh == 2 ? "same, spread-like (neighbour labels OR-ed in)"
+                               : fresh ? "templates on new background" : "templates",
+                    noise * 100,
                     (double)hit / Q, (double)rej / Q, nc / std::max(1, Q - rej),
                     (double)s.nodes_visited / s.locations, tq.getTimeMicro() / Q);
+    }
+    const double shift = parser.get<double>("shift"), qspread = parser.get<double>("qspread");
+    if (shift > 0)
+    {
+        std::vector<Shape> shapes;
+        for (int o = 0; o < objects; ++o)
+            shapes.push_back(makeShape(o));
+        const double step = 2.0 / G;   // one grid step in window units
+        std::vector<uchar> r(D), m(D);
+        int hit = 0, rej = 0;
+        double nc = 0;
+        for (int i = 0; i < Q; ++i)
+        {
+            const int t = rng.uniform(0, n);
+            const View& v = views[t];
+            const double tx = rng.uniform(-shift, shift) * step, ty = rng.uniform(-shift, shift) * step;
+            std::fill(q.begin(), q.end(), (uchar)0);
+            const int ns = qspread > 0 ? 3 : 1;
+            for (int sy = 0; sy < ns; ++sy)
+                for (int sx = 0; sx < ns; ++sx)
+                {
+                    const double ox = ns > 1 ? (sx - 1) * qspread * step / 2 : 0;
+                    const double oy = ns > 1 ? (sy - 1) * qspread * step / 2 : 0;
+                    renderView(shapes[v.object], v.alpha, v.scale, v.squash, G, &r[0], &m[0], 0.5,
+                               0.95, tx + ox, ty + oy);
+                    for (int j = 0; j < D; ++j)
+                        q[j] |= m[j] ? r[j] : randomValue(rng);
+                }
+            std::vector<uchar> c(q);
+            perturb(&c[0], D, noise, rng, &q[0]);
+            if (!forest->query(&q[0], cand))
+            {
+                rej++;
+                continue;
+            }
+            nc += (double)cand.size();
+            hit += std::binary_search(cand.begin(), cand.end(), t);
+        }
+        std::printf("views misaligned by up to %g grid steps (query spread %g), %g %% corrupted: "
+                    "recall %.4f, rejected %.4f, candidates %.1f\n", shift, qspread, noise * 100,
+                    (double)hit / Q, (double)rej / Q, nc / std::max(1, Q - rej));
     }
     {
         ForestQueryStats s;

@@ -30,6 +30,13 @@ struct Wave
     double kx, ky, ph, amp;
 };
 
+/** Parameters of one rendered view (to render it again, e.g. misaligned). */
+struct View
+{
+    int object;
+    double alpha, scale, squash;
+};
+
 struct Shape
 {
     double r0, a, phi;
@@ -76,7 +83,8 @@ static inline int orientationLabel(double angle)
 
 /** One view: G*G*2 values (modality-major) and the foreground mask. */
 static inline void renderView(const Shape& s, double alpha, double scale, double squash, int G,
-                              uchar* desc, uchar* fg, double weak_gradient, double grey)
+                              uchar* desc, uchar* fg, double weak_gradient, double grey,
+                              double tx = 0, double ty = 0)
 {
     const int GG = G * G;
     const double ca = std::cos(alpha), sa = std::sin(alpha);
@@ -84,7 +92,8 @@ static inline void renderView(const Shape& s, double alpha, double scale, double
         for (int x = 0; x < G; ++x)
         {
             const int j = y * G + x;
-            const double px = (x + 0.5) / G * 2 - 1, py = (y + 0.5) / G * 2 - 1;
+            // window coordinates in [-1, 1]; (tx, ty) moves the object (a misaligned window)
+            const double px = (x + 0.5) / G * 2 - 1 - tx, py = (y + 0.5) / G * 2 - 1 - ty;
             // image -> object frame
             double qx = (ca * px + sa * py) / scale, qy = (-sa * px + ca * py) / (scale * squash);
             const double th = std::atan2(qy, qx), r = std::sqrt(qx * qx + qy * qy);
@@ -150,7 +159,8 @@ below which a point has no gradient label) and `grey` (share of the saturation f
 is coloured) set how dense the labels are: the defaults give about 5 % unlabelled points. */
 static inline void makeTemplates(int n, int objects, int G, uint64 seed, cv::Mat& desc,
                                  cv::Mat& fg, std::vector<int>* object_of = 0,
-                                 double weak_gradient = 0.5, double grey = 0.95)
+                                 double weak_gradient = 0.5, double grey = 0.95,
+                                 std::vector<View>* views = 0)
 {
     desc.create(n, 2 * G * G, CV_8U);
     fg.create(n, 2 * G * G, CV_8U);
@@ -174,6 +184,15 @@ static inline void makeTemplates(int n, int objects, int G, uint64 seed, cv::Mat
                    weak_gradient, grey);
         if (object_of)
             (*object_of)[i] = o;
+        if (views)
+        {
+            View view;
+            view.object = o;
+            view.alpha = alpha;
+            view.scale = scale;
+            view.squash = squash;
+            views->push_back(view);
+        }
     }
 }
 
