@@ -222,6 +222,15 @@ TEST(Forestmod_TemplateForest, rejects_background)
     EXPECT_LE(f.rejected, 0.01);
     EXPECT_EQ(3000, su.locations);
     EXPECT_EQ(su.rejected, cvRound(uni * 3000));
+    ForestQueryStats sum;
+    sum.add(su);
+    sum.add(sr);
+    EXPECT_EQ(6000, sum.locations);
+    EXPECT_EQ(su.rejected + sr.rejected, sum.rejected);
+    int64 by_depth = 0;
+    for (size_t i = 0; i < sum.rejected_at_depth.size(); ++i)
+        by_depth += sum.rejected_at_depth[i];
+    EXPECT_EQ(sum.rejected, by_depth);
 }
 
 TEST(Forestmod_TemplateForest, tree_votes)

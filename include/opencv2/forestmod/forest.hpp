@@ -114,11 +114,11 @@ struct CV_EXPORTS_W_SIMPLE ForestParams
 /** @brief Counters of TemplateForest::query, accumulated over queries (+=). */
 struct CV_EXPORTS_W_SIMPLE ForestQueryStats
 {
-    ForestQueryStats() { reset(); }
+    CV_WRAP ForestQueryStats() { reset(); }
 
     CV_PROP_RW int64 locations;        //!< queries
     CV_PROP_RW int64 rejected;         //!< queries rejected by a background rejector
-    CV_PROP_RW std::vector<int64> rejected_at_depth;  //!< rejected queries by depth (root = 0)
+    std::vector<int64> rejected_at_depth;  //!< rejected queries by depth (root = 0)
     CV_PROP_RW int64 nodes_visited;    //!< nodes visited, summed over trees
     CV_PROP_RW int64 candidates;       //!< candidates returned (after de-duplication)
 
