@@ -47,6 +47,9 @@ static const char* keys =
     "{seed           | -1   | seed }"
     "{shift          | 0    | also query views re-rendered with the window misaligned by up to this "
     "many grid steps (uniform in x and y), on new background, with --noise corruption }"
+    "{augment        | 0    | extra training samples per template, rendered with the window "
+    "misaligned by up to --aug_shift grid steps (TemplateForest::train with template ids) }"
+    "{aug_shift      | 0.25 | misalignment of the extra samples, grid steps }"
     "{qspread        | 0    | with --shift: OR the values sampled over +-qspread/2 grid steps around "
     "each point (what a spread image holds) }";
 
@@ -152,12 +155,45 @@ int main(int argc, char** argv)
     std::vector<View> views;
     makeTemplates(n, objects, G, 12345, desc, fg, 0, 0.5, 0.95, &views);
     Ptr<TemplateForest> forest = TemplateForest::create(p);
+    const int augment = parser.get<int>("augment");
+    Mat train_desc = desc, train_fg = fg;
+    std::vector<int> ids;
+    if (augment > 0)
+    {
+        const double as = parser.get<double>("aug_shift") * 2.0 / G;
+        std::vector<Shape> shapes;
+        for (int o = 0; o < objects; ++o)
+            shapes.push_back(makeShape(o));
+        RNG arng(77);
+        train_desc.create(n * (augment + 1), desc.cols, CV_8U);
+        train_fg.create(n * (augment + 1), desc.cols, CV_8U);
+        desc.copyTo(train_desc.rowRange(0, n));
+        fg.copyTo(train_fg.rowRange(0, n));
+        for (int i = 0; i < n; ++i)
+            ids.push_back(i);
+        for (int k = 0; k < augment; ++k)
+            for (int i = 0; i < n; ++i)
+            {
+                const View& v = views[i];
+                const int row = n * (k + 1) + i;
+                renderView(shapes[v.object], v.alpha, v.scale, v.squash, G,
+                           train_desc.ptr<uchar>(row), train_fg.ptr<uchar>(row), 0.5, 0.95,
+                           arng.uniform(-as, as), arng.uniform(-as, as));
+                ids.push_back(i);
+            }
+    }
     TickMeter tm;
     tm.start();
-    forest->train(desc, fg);
+    if (augment > 0)
+        forest->train(train_desc, train_fg, ids);
+    else
+        forest->train(desc, fg);
     tm.stop();
     TemplateForest::applyBackgroundModel(desc, fg, p.seed, trained);
     const TemplateForest::Statistics st = forest->statistics();
+    if (augment > 0)
+        std::printf("%d samples per template (misaligned by up to %g grid steps)\n", augment + 1,
+                    parser.get<double>("aug_shift"));
     std::printf("%d templates (%d objects), D = %d; trees %d depth %d min_node %d d' %d pool %d "
                 "xi %g split_cov %g | rejector dims %d rho %g tau %g cov %g noise %g any %d\n",
                 n, objects, desc.cols, p.num_trees, p.max_depth, p.min_node_size, p.split_dims,

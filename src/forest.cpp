@@ -279,8 +279,9 @@ struct Candidate
 class TreeBuilder
 {
 public:
-    TreeBuilder(const Mat& codes, const Mat& fg, const ForestParams& p, int dsplit, uint64 seed)
-        : codes_(codes), fg_(fg), p_(p), dsplit_(dsplit), rng_(seed)
+    TreeBuilder(const Mat& codes, const Mat& fg, const std::vector<int>& template_of,
+                const ForestParams& p, int dsplit, uint64 seed)
+        : codes_(codes), fg_(fg), template_of_(template_of), p_(p), dsplit_(dsplit), rng_(seed)
     {
         rcfg_.dims = p.rejector_dims;
         rcfg_.rho = p.rejector_rho;
@@ -342,8 +343,14 @@ private:
         else
         {
             t.nodes[index].leaf_begin = (int)t.leaf_ids.size();
-            t.nodes[index].leaf_count = (int)ids.size();
-            t.leaf_ids.insert(t.leaf_ids.end(), ids.begin(), ids.end());
+            // the leaf holds templates (sorted, unique), the samples were their descriptors
+            std::vector<int> tmpl(ids.size());
+            for (size_t i = 0; i < ids.size(); ++i)
+                tmpl[i] = template_of_[ids[i]];
+            std::sort(tmpl.begin(), tmpl.end());
+            tmpl.erase(std::unique(tmpl.begin(), tmpl.end()), tmpl.end());
+            t.nodes[index].leaf_count = (int)tmpl.size();
+            t.leaf_ids.insert(t.leaf_ids.end(), tmpl.begin(), tmpl.end());
         }
         return index;
     }
@@ -546,6 +553,7 @@ private:
 
     const Mat& codes_;
     const Mat& fg_;
+    const std::vector<int>& template_of_;
     const ForestParams& p_;
     int dsplit_;
     RNG rng_;
@@ -563,8 +571,40 @@ public:
 
     void train(InputArray _desc, InputArray _fg) CV_OVERRIDE
     {
+        train(_desc, _fg, noArray());
+    }
+
+    void train(InputArray _desc, InputArray _fg, InputArray _ids) CV_OVERRIDE
+    {
         Mat desc = _desc.getMat(), fg = _fg.getMat();
         checkDescriptors(desc, fg, "TemplateForest::train");
+        std::vector<int> template_of(desc.rows);
+        int N = desc.rows;
+        if (_ids.empty())
+        {
+            for (int i = 0; i < desc.rows; ++i)
+                template_of[i] = i;
+        }
+        else
+        {
+            Mat ids = _ids.getMat();
+            if (ids.type() != CV_32SC1 || ids.total() != (size_t)desc.rows)
+                CV_Error_(Error::StsBadArg,
+                          ("TemplateForest::train: template_ids must hold one CV_32S id per "
+                           "descriptor row (%d), got %s with %d elements", desc.rows,
+                           typeToString(ids.type()).c_str(), (int)ids.total()));
+            Mat idc = ids.reshape(1, 1).clone();
+            N = 0;
+            for (int i = 0; i < desc.rows; ++i)
+            {
+                template_of[i] = idc.at<int>(i);
+                if (template_of[i] < 0)
+                    CV_Error_(Error::StsBadArg,
+                              ("TemplateForest::train: template_ids[%d] = %d is negative", i,
+                               template_of[i]));
+                N = std::max(N, template_of[i] + 1);
+            }
+        }
         Mat noisy;
         applyBackgroundModel(desc, fg, params_.seed, noisy);
         Mat codes(noisy.size(), CV_8U);
@@ -585,14 +625,14 @@ public:
         parallel_for_(Range(0, params.num_trees), [&](const Range& r) {
             for (int t = r.start; t < r.end; ++t)
             {
-                TreeBuilder builder(codes, fgc, params, dsplit,
+                TreeBuilder builder(codes, fgc, template_of, params, dsplit,
                                     mixSeed((uint64)(int64)params.seed, 1000003ULL * (t + 1)));
                 builder.build(trees[t]);
             }
         });
         trees_.swap(trees);
         D_ = desc.cols;
-        N_ = desc.rows;
+        N_ = N;
         dsplit_ = dsplit;
     }
 

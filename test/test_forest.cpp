@@ -233,6 +233,56 @@ TEST(Forestmod_TemplateForest, rejects_background)
     EXPECT_EQ(sum.rejected, by_depth);
 }
 
+TEST(Forestmod_TemplateForest, several_samples_per_template)
+{
+    // 300 templates, each with 3 samples: its view and two views with the window misaligned
+    ForestParams p;
+    std::vector<View> views;
+    Mat desc, fg;
+    makeTemplates(300, 3, kGrid, 45, desc, fg, 0, 0.5, 0.95, &views);
+    std::vector<Shape> shapes;
+    for (int o = 0; o < 3; ++o)
+        shapes.push_back(makeShape(o));
+    Mat sd(900, desc.cols, CV_8U), sf(900, desc.cols, CV_8U);
+    std::vector<int> ids(900);
+    RNG rng(46);
+    for (int i = 0; i < 900; ++i)
+    {
+        const int t = i % 300;
+        ids[i] = t;
+        const View& v = views[t];
+        const double step = 2.0 / kGrid;
+        const double tx = i < 300 ? 0 : rng.uniform(-0.3, 0.3) * step;
+        const double ty = i < 300 ? 0 : rng.uniform(-0.3, 0.3) * step;
+        renderView(shapes[v.object], v.alpha, v.scale, v.squash, kGrid, sd.ptr<uchar>(i),
+                   sf.ptr<uchar>(i), 0.5, 0.95, tx, ty);
+    }
+    Ptr<TemplateForest> f = TemplateForest::create(p);
+    f->train(sd, sf, ids);
+    EXPECT_EQ(300, f->numTemplates());
+    Mat trained;
+    TemplateForest::applyBackgroundModel(sd, sf, p.seed, trained);
+    std::vector<int> cand;
+    for (int i = 0; i < 900; ++i)
+    {
+        ASSERT_TRUE(f->query(trained.ptr<uchar>(i), cand)) << "sample " << i;
+        ASSERT_TRUE(std::binary_search(cand.begin(), cand.end(), ids[i])) << "sample " << i;
+        for (size_t k = 0; k < cand.size(); ++k)
+            ASSERT_TRUE(cand[k] >= 0 && cand[k] < 300);
+        for (size_t k = 1; k < cand.size(); ++k)
+            ASSERT_LT(cand[k - 1], cand[k]);   // sorted, de-duplicated template ids
+    }
+    std::vector<int> counts;
+    f->leavesPerTemplate(0, counts);
+    EXPECT_EQ(300u, counts.size());
+    EXPECT_EQ(0, (int)std::count(counts.begin(), counts.end(), 0));
+    // bad ids
+    std::vector<int> few(10, 0), negative(ids);
+    negative[5] = -1;
+    EXPECT_THROW(f->train(sd, sf, few), cv::Exception);
+    EXPECT_THROW(f->train(sd, sf, negative), cv::Exception);
+}
+
 TEST(Forestmod_TemplateForest, tree_votes)
 {
     // all-vote (default) rejects a location only when every tree does; any-vote when one does

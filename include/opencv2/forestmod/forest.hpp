@@ -176,6 +176,17 @@ public:
     */
     virtual void train(InputArray descriptors, InputArray foreground) = 0;
 
+    /** @brief Trains with several descriptors (samples) per template.
+
+    Row i of @p descriptors / @p foreground is a sample of template `template_ids[i]` (CV_32S,
+    one per row, >= 0; numTemplates() = max id + 1). Leaves hold template ids, de-duplicated.
+    Use it to add jittered samples of each template (e.g. its descriptor read at grid positions
+    shifted by a pixel or two): the forest then routes misaligned windows to the template too
+    (doc/forest.md, "Misaligned windows"). An empty @p template_ids means row i = template i.
+    */
+    virtual void train(InputArray descriptors, InputArray foreground,
+                       InputArray template_ids) = 0;
+
     /** @brief Traverses all trees for one location.
 
     @return true with the sorted, de-duplicated candidate templates of the leaves reached; false
