@@ -6,6 +6,7 @@
 #define OPENCV_FORESTMOD_HPP
 
 #include "opencv2/forestmod/hue.hpp"
+#include "opencv2/forestmod/render.hpp"
 
 /** @defgroup forestmod Fuzzy template forest for real-time 6-DoF pose estimation
 
@@ -16,6 +17,7 @@ background rejector; candidates of a leaf are validated breadth-first.
 
   @{
     @defgroup forestmod_hue Quantized hue modality (LINEMOD's colour cue)
+    @defgroup forestmod_render Meshes, off-screen rendering and template view sampling
   @}
 */
 
