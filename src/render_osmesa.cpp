@@ -381,17 +381,45 @@ void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx3
             zmax = std::max(zmax, p[2]);
         }
     const int W = size_.width, H = size_.height;
-    makeCurrent();
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-    const GLfloat zero[4] = { 0.f, 0.f, 0.f, 0.f };
-    const GLfloat one = 1.f;
-    glClearBufferfv(GL_COLOR, 0, zero);
-    glClearBufferfv(GL_COLOR, 1, zero);
-    glClearBufferfv(GL_DEPTH, 0, &one);
-    if (!handles.empty() && zmax > 0)
+    const double zfar = zmax * 1.01 + 1.0;
+    const double znear = std::max(zmin * 0.99 - 1.0, zfar * 1e-5);
+    // Only the image region where the bounding boxes project is cleared, drawn and read back
+    // (the rest is background): when every box corner is in front of the near plane, the
+    // projection of the corners bounds the projection of the meshes.
+    Rect roi(0, 0, W, H);
+    if (handles.empty() || zmax <= 0)
+        roi = Rect();
+    else if (zmin > znear)
     {
-        const double zfar = zmax * 1.01 + 1.0;
-        const double znear = std::max(zmin * 0.99 - 1.0, zfar * 1e-5);
+        double umin = DBL_MAX, umax = -DBL_MAX, vmin = DBL_MAX, vmax = -DBL_MAX;
+        for (size_t i = 0; i < handles.size(); ++i)
+            for (int c = 0; c < 8; ++c)
+            {
+                const Point3f& q = meshes_[handles[i]].corners[c];
+                const Vec3d p = R[i] * Vec3d(q.x, q.y, q.z) + t[i];
+                const double u = (fx * p[0] + K(0, 1) * p[1]) / p[2] + cx, v = fy * p[1] / p[2] + cy;
+                umin = std::min(umin, u);
+                umax = std::max(umax, u);
+                vmin = std::min(vmin, v);
+                vmax = std::max(vmax, v);
+            }
+        const double lo_u = std::max(-1.0, std::floor(umin) - 1), hi_u = std::min(W + 1.0, std::ceil(umax) + 2);
+        const double lo_v = std::max(-1.0, std::floor(vmin) - 1), hi_v = std::min(H + 1.0, std::ceil(vmax) + 2);
+        roi = Rect((int)lo_u, (int)lo_v, (int)std::max(0.0, hi_u - lo_u),
+                   (int)std::max(0.0, hi_v - lo_v)) & Rect(0, 0, W, H);
+    }
+
+    if (roi.area() > 0)
+    {
+        makeCurrent();
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+        glEnable(GL_SCISSOR_TEST);
+        glScissor(roi.x, roi.y, roi.width, roi.height); // no y flip: GL row = image row
+        const GLfloat zero[4] = { 0.f, 0.f, 0.f, 0.f };
+        const GLfloat one = 1.f;
+        glClearBufferfv(GL_COLOR, 0, zero);
+        glClearBufferfv(GL_COLOR, 1, zero);
+        glClearBufferfv(GL_DEPTH, 0, &one);
         // OpenCV pixel (u, v) = GL window (u + 0.5, v + 0.5); no y flip, so that row v of the
         // read-back buffer is image row v (the winding flips, culling is off).
         Matx44f P = Matx44f::zeros();
@@ -418,27 +446,28 @@ void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx3
             glDrawElements(GL_TRIANGLES, g.num_indices, GL_UNSIGNED_INT, 0);
         }
         glBindVertexArray(0);
-    }
 
-    // read back: colour + label (alpha), then z
-    const bool need_labels = third.needed();
-    bgra_.create(H, W, CV_8UC4);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
-    glReadPixels(0, 0, W, H, GL_BGRA, GL_UNSIGNED_BYTE, bgra_.data);
-    if (depth.needed() || need_labels)
-    {
-        z_.create(H, W, CV_32F);
+        // read back the region: colour + label (alpha), then z
+        bgra_.create(roi.height, roi.width, CV_8UC4);
+        glReadBuffer(GL_COLOR_ATTACHMENT0);
+        glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_BGRA, GL_UNSIGNED_BYTE, bgra_.data);
+        z_.create(roi.height, roi.width, CV_32F);
         glReadBuffer(GL_COLOR_ATTACHMENT1);
-        glReadPixels(0, 0, W, H, GL_RED, GL_FLOAT, z_.data);
+        glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_RED, GL_FLOAT, z_.data);
+        checkGL(fn);
     }
-    checkGL(fn);
 
     if (color.needed())
     {
         color.create(H, W, CV_8UC3);
         Mat c = color.getMat();
-        const int from_to[] = { 0, 0, 1, 1, 2, 2 };
-        mixChannels(&bgra_, 1, &c, 1, from_to, 3);
+        c.setTo(Scalar::all(0));
+        if (roi.area() > 0)
+        {
+            Mat c_roi = c(roi);
+            const int from_to[] = { 0, 0, 1, 1, 2, 2 };
+            mixChannels(&bgra_, 1, &c_roi, 1, from_to, 3);
+        }
     }
     // the object pixels are those with z > 0 (the z attachment is cleared to 0); depth, mask and
     // labels are all derived from that one test so that they agree exactly
@@ -446,24 +475,26 @@ void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx3
     {
         depth.create(H, W, CV_16U);
         Mat d = depth.getMat();
-        for (int r = 0; r < H; ++r)
+        d.setTo(Scalar::all(0));
+        for (int r = 0; r < roi.height; ++r)
         {
             const float* zr = z_.ptr<float>(r);
-            ushort* dr = d.ptr<ushort>(r);
-            for (int c = 0; c < W; ++c)
+            ushort* dr = d.ptr<ushort>(roi.y + r) + roi.x;
+            for (int c = 0; c < roi.width; ++c)
                 dr[c] = zr[c] > 0.f ? (ushort)std::min(65535, std::max(1, cvRound(zr[c]))) : 0;
         }
     }
-    if (need_labels)
+    if (third.needed())
     {
         third.create(H, W, CV_8U);
         Mat l = third.getMat();
-        for (int r = 0; r < H; ++r)
+        l.setTo(Scalar::all(0));
+        for (int r = 0; r < roi.height; ++r)
         {
             const float* zr = z_.ptr<float>(r);
             const uchar* a = bgra_.ptr<uchar>(r) + 3;
-            uchar* lr = l.ptr<uchar>(r);
-            for (int c = 0; c < W; ++c)
+            uchar* lr = l.ptr<uchar>(roi.y + r) + roi.x;
+            for (int c = 0; c < roi.width; ++c)
                 lr[c] = zr[c] > 0.f ? (single ? 255 : a[4 * c]) : 0;
         }
     }
