@@ -948,6 +948,67 @@ TEST(Forestmod_Mesh, missing_empty_and_corrupt_files_raise_with_the_path)
     }
 }
 
+static std::string readBytes(const std::string& path)
+{
+    std::ifstream f(path.c_str(), std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+static void expectLoadThrowsNamingFile(const std::string& path, const std::string& what)
+{
+    try
+    {
+        Mesh m = Mesh::load(path);
+        ADD_FAILURE() << what << ": no exception (" << m.vertices.size() << " vertices, "
+                      << m.faces.size() << " faces)";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(std::string::npos, e.err.find(path)) << what << ": " << e.err;
+    }
+}
+
+TEST(Forestmod_Mesh, truncated_ply_raises_instead_of_loading_garbage)
+{
+    // assimp's PLY reader pads a truncated file (zeros, repeated faces, faces without indices on
+    // which its own post-processing aborts); Mesh::load must report it. ASCII: the shipped ape,
+    // cut in the vertex list, early and late in the face list; binary: the ape written as binary.
+    const std::string ascii = readBytes(apePath());
+    ASSERT_GT(ascii.size(), 500000u);
+    const size_t cuts[] = { 1000, 100000, 300000, 450000, ascii.size() - 700 };
+    for (size_t i = 0; i < sizeof(cuts) / sizeof(cuts[0]); ++i)
+    {
+        const std::string path = writeTextFile(".ply", ascii.substr(0, cuts[i]));
+        expectLoadThrowsNamingFile(path, cv::format("ascii ape cut at %d bytes", (int)cuts[i]));
+        remove(path.c_str());
+    }
+    const Mesh ape = Mesh::load(apePath());
+    std::string bin = cv::format("ply\nformat binary_little_endian 1.0\nelement vertex %d\n"
+                                 "property float x\nproperty float y\nproperty float z\n"
+                                 "element face %d\nproperty list uchar int vertex_indices\n"
+                                 "end_header\n",
+                                 (int)ape.vertices.size(), (int)ape.faces.size());
+    for (size_t i = 0; i < ape.vertices.size(); ++i)
+        bin.append(reinterpret_cast<const char*>(&ape.vertices[i]), 3 * sizeof(float));
+    for (size_t f = 0; f < ape.faces.size(); ++f)
+    {
+        bin.push_back((char)3);
+        bin.append(reinterpret_cast<const char*>(&ape.faces[f]), 3 * sizeof(int));
+    }
+    {
+        const std::string path = writeTextFile(".ply", bin);
+        EXPECT_EQ(ape.faces.size(), Mesh::load(path).faces.size()); // the full file is fine
+        remove(path.c_str());
+    }
+    const size_t bcuts[] = { 2000, bin.size() / 2, bin.size() - 13 * 50 };
+    for (size_t i = 0; i < sizeof(bcuts) / sizeof(bcuts[0]); ++i)
+    {
+        const std::string path = writeTextFile(".ply", bin.substr(0, bcuts[i]));
+        expectLoadThrowsNamingFile(path, cv::format("binary ape cut at %d bytes", (int)bcuts[i]));
+        remove(path.c_str());
+    }
+}
+
 TEST(Forestmod_Mesh, diameter_is_the_largest_vertex_distance)
 {
     RNG rng(7);
