@@ -395,11 +395,16 @@ TEST(Forestmod_Renderer, bad_input_raises)
     EXPECT_THROW(renderer->renderScene(std::vector<int>(2, h), std::vector<Matx33d>(1),
                                        std::vector<Vec3d>(2), K, c),
                  cv::Exception);
-    // behind the camera: empty images, no error
-    Mat d, m;
-    renderer->render(h, Matx33d::eye(), Vec3d(0, 0, -100), K, c, d, m);
-    EXPECT_EQ(0, countNonZero(m));
-    EXPECT_EQ(0, countNonZero(d));
+    // behind the camera, or far off-screen: empty images, no error
+    const Vec3d nowhere[3] = { Vec3d(0, 0, -100), Vec3d(1e12, 0, 1000), Vec3d(0, -1e13, 50) };
+    for (int i = 0; i < 3; ++i)
+    {
+        Mat d, m;
+        renderer->render(h, Matx33d::eye(), nowhere[i], K, c, d, m);
+        EXPECT_EQ(0, countNonZero(m)) << nowhere[i];
+        EXPECT_EQ(0, countNonZero(d)) << nowhere[i];
+        EXPECT_EQ(Size(64, 48), c.size());
+    }
 }
 
 // ---- real data ----------------------------------------------------------------------------------
