@@ -7,6 +7,7 @@
 
 #include "opencv2/forestmod/hue.hpp"
 #include "opencv2/forestmod/forest.hpp"
+#include "opencv2/forestmod/render.hpp"
 
 /** @defgroup forestmod Fuzzy template forest for real-time 6-DoF pose estimation
 
@@ -18,6 +19,7 @@ background rejector; candidates of a leaf are validated breadth-first.
   @{
     @defgroup forestmod_hue Quantized hue modality (LINEMOD's colour cue)
     @defgroup forestmod_forest Fuzzy template forest with preemptive background rejectors
+    @defgroup forestmod_render Meshes, off-screen rendering and template view sampling
   @}
 */
 
