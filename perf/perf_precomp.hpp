@@ -8,6 +8,9 @@
 #include "opencv2/ts.hpp"
 #include "opencv2/forestmod.hpp"
 #include "opencv2/imgproc.hpp"
+#include "opencv2/imgcodecs.hpp"
+
+#include <map>
 
 namespace opencv_test {
 using namespace perf;

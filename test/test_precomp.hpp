@@ -9,9 +9,12 @@
 #include "opencv2/forestmod.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/imgcodecs.hpp"
+#include "opencv2/calib3d.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
 
+#include <fstream>
 #include <set>
+#include <thread>
 
 namespace opencv_test {
 using namespace cv::forestmod;

@@ -6,8 +6,10 @@
 #define OPENCV_FORESTMOD_HPP
 
 #include "opencv2/forestmod/hue.hpp"
-#include "opencv2/forestmod/forest.hpp"
 #include "opencv2/forestmod/render.hpp"
+#include "opencv2/forestmod/synthetic.hpp"
+#include "opencv2/forestmod/forest.hpp"
+#include "opencv2/forestmod/detector.hpp"
 
 /** @defgroup forestmod Fuzzy template forest for real-time 6-DoF pose estimation
 
@@ -20,6 +22,7 @@ background rejector; candidates of a leaf are validated breadth-first.
     @defgroup forestmod_hue Quantized hue modality (LINEMOD's colour cue)
     @defgroup forestmod_forest Fuzzy template forest with preemptive background rejectors
     @defgroup forestmod_render Meshes, off-screen rendering and template view sampling
+    @defgroup forestmod_detector Detector: drop-in cv::linemod::Detector with forest search
   @}
 */
 

@@ -1,0 +1,229 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+#ifndef OPENCV_FORESTMOD_DETECTOR_HPP
+#define OPENCV_FORESTMOD_DETECTOR_HPP
+
+#include "opencv2/core.hpp"
+#include "opencv2/rgbd/linemod.hpp"
+#include "opencv2/forestmod/forest.hpp"
+#include "opencv2/forestmod/render.hpp"
+
+#include <functional>
+
+namespace cv {
+namespace forestmod {
+
+//! @addtogroup forestmod_detector
+//! @{
+
+/** @brief Parameters of forestmod::Detector. FileStorage keys are the field names. */
+struct CV_EXPORTS_W_SIMPLE DetectorParams
+{
+    CV_WRAP DetectorParams();
+
+    /** The template forest (paper: 1 or 5 trees, depth 8 for one object, 9 for several). When
+    max_depth is 0 it is chosen at train(): 8 with one class, 9 with several (paper, Evaluation). */
+    CV_PROP_RW ForestParams forest;
+    /** Use the forest to choose the candidate templates of a location. false: every template is a
+    candidate everywhere (exhaustive LINEMOD search, for comparison and tests). */
+    CV_PROP_RW bool use_forest;
+    /** Breadth-first preemptive validation (paper, "Fast Breadth-first Leaf Validation"). false:
+    every candidate is scored on all its features. */
+    CV_PROP_RW bool breadth_first;
+    /** Features per chunk in breadth-first validation. Default 16: a quarter of a 63-feature
+    modality, the trade-off the paper describes (larger chunks: more robust, slower). */
+    CV_PROP_RW int chunk_size;
+    /** alpha of the pass condition s > max(median, alpha), with s the accumulated score normalised
+    to [0, 1]. Paper: 0.5. */
+    CV_PROP_RW float alpha;
+    /** Breadth-first validation stops when this many candidates (or fewer) are left, and this
+    many best candidates of a location go on to pyramid refinement. Paper: 1 ("until there is
+    only one or no candidate left"). */
+    CV_PROP_RW int max_survivors;
+    /** Grid points per side of the descriptor window (paper: the template's sample locations r).
+    The window covers every template at the coarsest pyramid level. Default 12 (144 points per
+    modality). */
+    CV_PROP_RW int grid_size;
+    /** Stride (pixels of the coarsest pyramid level) of the locations sent through the forest;
+    0: T / 2 of that level. The forest is trained with every template also shifted by up to half
+    the stride, so that a location that misses the object's anchor by that much still finds it
+    (doc/forest.md, "Misaligned windows"). Smaller: more locations, higher recall, slower. */
+    CV_PROP_RW int location_step;
+    /** Non-maximum suppression: a match is dropped when its box overlaps a better match (of any
+    template and class) by more than this intersection over union. <= 0 or >= 1: off (then the
+    output is, as in cv::linemod, every match above the threshold). Default 0.5. */
+    CV_PROP_RW float nms_iou;
+    /** Depth as a validation modality (paper: "we add depth value as another modality in the
+    validation stage to measure shape similarity"): when the detector has a DepthNormal modality,
+    every template keeps up to this many depth samples spread over its object; after a match is
+    refined, a sample agrees when the scene depth there, minus the template's, lies within
+    depth_tolerance of the median offset, and the samples join the similarity like features
+    (agreeing: full score). 0: off. Default 32. Not used in the exhaustive mode (plain LINEMOD). */
+    CV_PROP_RW int depth_samples;
+    /** Tolerance (mm) of the depth agreement. Default 10: noise of a Kinect-class sensor at 1 m
+    (a few mm) plus LINEMOD's position step at level 0, well under the relief of LM objects. */
+    CV_PROP_RW int depth_tolerance;
+
+    void read(const FileNode& fn);
+    void write(FileStorage& fs) const;
+};
+
+/** @brief Counters and timing of one call to Detector::match, on request. */
+struct CV_EXPORTS_W_SIMPLE DetectionStats
+{
+    CV_WRAP DetectionStats() { reset(); }
+    CV_WRAP void reset();
+
+    CV_PROP double t_quantize_ms;    //!< modalities, spreading, response maps (all levels)
+    CV_PROP double t_tree_ms;        //!< forest traversal of every location (paper: T_tree)
+    CV_PROP double t_valid_ms;       //!< validation + pyramid refinement (paper: T_valid)
+    CV_PROP double t_total_ms;       //!< the whole call
+    CV_PROP int64 locations;         //!< locations visited on the coarsest level
+    CV_PROP int64 rejected;          //!< locations a background rejector sent out
+    CV_PROP int64 validated;         //!< locations that reached validation with candidates
+    CV_PROP int64 candidates;        //!< candidate templates validated, summed over locations
+    CV_PROP std::vector<int64> rejected_at_depth; //!< rejected locations per forest depth
+    /** depth (forest) at which each coarse location was rejected, -1 when it was not; one
+    CV_16SC1 image per call of the coarsest level's grid, on request (Detector::match). */
+    Mat rejection_map;
+    //! share of visited locations rejected before validation
+    CV_WRAP double rejectedFraction() const { return locations ? double(rejected) / locations : 0; }
+};
+
+/** @brief Pose label of a template: the view it was made from. */
+struct CV_EXPORTS_W_SIMPLE TemplatePose
+{
+    CV_WRAP TemplatePose() : valid(false) {}
+    CV_PROP_RW Matx33d R; //!< model -> camera rotation (BOP cam_R_m2c)
+    CV_PROP_RW Vec3d t;   //!< model -> camera translation, mm (BOP cam_t_m2c)
+    CV_PROP_RW Matx33d K; //!< intrinsics the template was rendered with
+    CV_PROP_RW bool valid; //!< false for templates added without a pose
+};
+
+/** @brief A match with what cv::linemod::Match lacks: the template's pose label. */
+struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
+{
+    CV_WRAP PoseMatch() {}
+    CV_WRAP PoseMatch(const cv::linemod::Match& m) : cv::linemod::Match(m) {}
+    CV_PROP_RW Rect box;          //!< the template's box at the match (level 0 pixels)
+    CV_PROP_RW TemplatePose pose; //!< the matched template's pose label
+};
+
+/** @brief LINEMOD detector searched through a fuzzy template forest (Shao, Tang, Kim).
+
+A drop-in cv::linemod::Detector: same constructors, same addTemplate / addSyntheticTemplate /
+match / readClasses / writeClasses signatures and meanings (threshold in percent, sorted matches,
+class filter, masks, quantized images), so code written for cv::linemod::Detector works after
+changing the type. cv::linemod::Detector has no virtual functions: the methods here hide the
+base's ones, so call them through a forestmod::Detector (a call through a base reference or
+pointer runs plain LINEMOD, correct but slow).
+
+What it adds: the forest and its background rejectors choose the candidate templates of every
+location of the coarsest pyramid level; the candidates are validated breadth-first; survivors are
+refined up the pyramid as in LINEMOD. Templates may carry their pose (R, t, K); match() can return
+PoseMatch with it. The forest is trained by train(), or automatically by the first match() after
+templates changed (train() is not thread-safe; match() is const and thread-safe once trained).
+*/
+class CV_EXPORTS_W Detector : public cv::linemod::Detector
+{
+public:
+    CV_WRAP Detector();
+    CV_WRAP Detector(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
+                     const std::vector<int>& T_pyramid,
+                     const DetectorParams& params = DetectorParams());
+    ~Detector();
+
+    /** Same as cv::linemod::Detector::match. */
+    CV_WRAP void match(const std::vector<Mat>& sources, float threshold,
+                       CV_OUT std::vector<cv::linemod::Match>& matches,
+                       const std::vector<String>& class_ids = std::vector<String>(),
+                       OutputArrayOfArrays quantized_images = noArray(),
+                       const std::vector<Mat>& masks = std::vector<Mat>()) const;
+    /** match() with statistics (timing, locations rejected per depth, ...). */
+    void match(const std::vector<Mat>& sources, float threshold,
+               std::vector<cv::linemod::Match>& matches, const std::vector<String>& class_ids,
+               OutputArrayOfArrays quantized_images, const std::vector<Mat>& masks,
+               DetectionStats* stats) const;
+    /** match() returning the matched templates' poses and boxes. */
+    void match(const std::vector<Mat>& sources, float threshold, std::vector<PoseMatch>& matches,
+               const std::vector<String>& class_ids = std::vector<String>(),
+               const std::vector<Mat>& masks = std::vector<Mat>(),
+               DetectionStats* stats = 0) const;
+
+    /** Same as cv::linemod::Detector::addTemplate (no pose label). */
+    CV_WRAP int addTemplate(const std::vector<Mat>& sources, const String& class_id,
+                            const Mat& object_mask, CV_OUT Rect* bounding_box = NULL);
+    /** addTemplate with the template's pose label (R, t in BOP convention, K of the rendering). */
+    int addTemplate(const std::vector<Mat>& sources, const String& class_id,
+                    const Mat& object_mask, const Matx33d& R, const Vec3d& t, const Matx33d& K,
+                    Rect* bounding_box = NULL);
+    /** Renders a mesh from every pose of a sampler and adds each view as a template with its
+    pose label (sources per modality: the colour image for ColorGradient and ColorHue, the depth
+    for DepthNormal). Views that yield no template (too few features) are skipped. progress
+    (optional) is called with (done, total); returning false stops. Returns the number of
+    templates added. */
+    int addTemplates(const Mesh& mesh, const String& class_id, const ViewSampler& sampler,
+                     const Matx33d& K, Size size,
+                     const std::function<bool(int, int)>& progress = std::function<bool(int, int)>());
+
+    /** Same as cv::linemod::Detector::addSyntheticTemplate. */
+    CV_WRAP int addSyntheticTemplate(const std::vector<cv::linemod::Template>& templates,
+                                     const String& class_id);
+
+    /** Pose label of a template (valid == false when it was added without one). */
+    TemplatePose getTemplatePose(const String& class_id, int template_id) const;
+
+    /** Builds the descriptor geometry and trains the forest on all templates. */
+    CV_WRAP void train();
+    /** true when the forest is up to date with the templates. */
+    CV_WRAP bool isTrained() const;
+
+    CV_WRAP DetectorParams getParams() const;
+    /** Changing parameters that shape the forest (forest, grid_size) marks it for retraining. */
+    CV_WRAP void setParams(const DetectorParams& params);
+
+    /** The trained forest (empty before train()). */
+    Ptr<TemplateForest> getForest() const;
+
+    /** Detector (modalities, pyramid) as cv::linemod::Detector writes it, plus params. */
+    CV_WRAP void read(const FileNode& fn);
+    void write(FileStorage& fs) const;
+    String readClass(const FileNode& fn, const String& class_id_override = "");
+    void writeClass(const String& class_id, FileStorage& fs) const;
+    CV_WRAP void readClasses(const std::vector<String>& class_ids,
+                             const String& format = "templates_%s.yml.gz");
+    CV_WRAP void writeClasses(const String& format = "templates_%s.yml.gz") const;
+
+    /** Whole model (modalities, pyramid, params, templates with poses, trained forest) to one
+    file (.yml, .yml.gz, .json). Refuses to overwrite an existing file unless overwrite is true. */
+    CV_WRAP void save(const String& filename, bool overwrite = false) const;
+    /** Loads a model written by save(); a corrupt file, another format version or an unknown
+    modality raises cv::Exception. */
+    CV_WRAP void load(const String& filename);
+
+    struct Impl;
+
+private:
+    Ptr<Impl> impl_;
+};
+
+/** @brief Color gradient + hue, T = {5, 8} (LINEMOD's getDefaultLINE plus the paper's hue).
+Sources: {BGR image, BGR image}. */
+CV_EXPORTS_W Ptr<Detector> getDefaultForestLINE();
+/** @brief Color gradient + depth normal + hue, T = {5, 8} (getDefaultLINEMOD plus the hue).
+Sources: {BGR image, depth CV_16UC1 mm, BGR image}: the hue is last, so a cv::linemod
+getDefaultLINEMOD program appends its colour image once more. */
+CV_EXPORTS_W Ptr<Detector> getDefaultForestLINEMOD();
+
+/** @brief Creates a modality from a FileNode written by a modality's write(): ColorHue besides
+cv::linemod's ColorGradient and DepthNormal. */
+CV_EXPORTS Ptr<cv::linemod::Modality> createModality(const FileNode& fn);
+
+//! @}
+
+} // namespace forestmod
+} // namespace cv
+
+#endif // OPENCV_FORESTMOD_DETECTOR_HPP

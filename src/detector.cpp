@@ -1,0 +1,1434 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The detector (paper: the whole pipeline): quantize once per frame, visit every location of the
+// coarsest pyramid level through the template forest (rejectors, splits, all trees), validate the
+// leaf candidates breadth-first, refine survivors up the pyramid as LINEMOD does.
+
+#include "precomp.hpp"
+#include "validator.hpp"
+
+#include "opencv2/core/utils/filesystem.hpp"
+#include "opencv2/forestmod/detector.hpp"
+
+#include <map>
+
+namespace cv {
+namespace forestmod {
+
+using linemod::Feature;
+using linemod::Match;
+using linemod::Modality;
+using linemod::QuantizedPyramid;
+using linemod::Template;
+using detail::LevelMaps;
+using detail::TemplatePyramid;
+
+static const int MODEL_FORMAT_VERSION = 1;
+
+// ---------------------------------------------------------------------------------------------
+DetectorParams::DetectorParams()
+    : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
+      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(32), depth_tolerance(10)
+{
+    forest.max_depth = 0; // chosen at train(): 8 for one class, 9 for several (paper)
+    // rejectors over dims that half the node's templates cover, and more of them: measured on
+    // rendered LM-O scenes (doc/detector.md), the forest's defaults reject less background
+    forest.rejector_coverage = 0.5f;
+    forest.rejector_dims = 64;
+}
+
+void DetectorParams::read(const FileNode& fn)
+{
+    if (!fn["forest"].empty())
+        forest.read(fn["forest"]);
+    if (!fn["use_forest"].empty())
+        use_forest = (int)fn["use_forest"] != 0;
+    if (!fn["breadth_first"].empty())
+        breadth_first = (int)fn["breadth_first"] != 0;
+    if (!fn["chunk_size"].empty())
+        chunk_size = (int)fn["chunk_size"];
+    if (!fn["alpha"].empty())
+        alpha = (float)fn["alpha"];
+    if (!fn["grid_size"].empty())
+        grid_size = (int)fn["grid_size"];
+    if (!fn["location_step"].empty())
+        location_step = (int)fn["location_step"];
+    if (!fn["nms_iou"].empty())
+        nms_iou = (float)fn["nms_iou"];
+    if (!fn["max_survivors"].empty())
+        max_survivors = (int)fn["max_survivors"];
+    if (!fn["depth_samples"].empty())
+        depth_samples = (int)fn["depth_samples"];
+    if (!fn["depth_tolerance"].empty())
+        depth_tolerance = (int)fn["depth_tolerance"];
+}
+
+void DetectorParams::write(FileStorage& fs) const
+{
+    fs << "forest" << "{";
+    forest.write(fs);
+    fs << "}";
+    fs << "use_forest" << (int)use_forest;
+    fs << "breadth_first" << (int)breadth_first;
+    fs << "chunk_size" << chunk_size;
+    fs << "alpha" << alpha;
+    fs << "grid_size" << grid_size;
+    fs << "location_step" << location_step;
+    fs << "nms_iou" << nms_iou;
+    fs << "max_survivors" << max_survivors;
+    fs << "depth_samples" << depth_samples;
+    fs << "depth_tolerance" << depth_tolerance;
+}
+
+static void checkParams(const DetectorParams& p)
+{
+    CV_CheckGT(p.chunk_size, 0, "DetectorParams: chunk_size must be positive");
+    CV_CheckGE(p.alpha, 0.f, "DetectorParams: alpha must be in [0, 1]");
+    CV_CheckLE(p.alpha, 1.f, "DetectorParams: alpha must be in [0, 1]");
+    CV_CheckGE(p.grid_size, 2, "DetectorParams: grid_size must be at least 2");
+    CV_CheckLE(p.grid_size, 64, "DetectorParams: grid_size must be at most 64");
+    CV_CheckGE(p.location_step, 0, "DetectorParams: location_step must be >= 0 (0: T / 2)");
+    CV_CheckGT(p.max_survivors, 0, "DetectorParams: max_survivors must be positive");
+    CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");
+    CV_CheckLE(p.depth_samples, 256, "DetectorParams: depth_samples must be at most 256");
+    CV_CheckGT(p.depth_tolerance, 0, "DetectorParams: depth_tolerance must be positive");
+}
+
+// stride (coarsest level pixels) of forest queries: location_step, or T / 2 when 0
+static int locationStep(const DetectorParams& p, int T)
+{
+    return p.location_step > 0 ? p.location_step : std::max(1, T / 2);
+}
+
+static int depthModality(const std::vector<Ptr<Modality> >& modalities)
+{
+    for (size_t i = 0; i < modalities.size(); ++i)
+        if (modalities[i]->name() == "DepthNormal")
+            return static_cast<int>(i);
+    return -1;
+}
+
+static Mat downsampleNearest(const Mat& img, int levels)
+{
+    Mat out = img;
+    for (int l = 0; l < levels; ++l)
+    {
+        Mat m;
+        resize(out, m, Size(out.cols / 2, out.rows / 2), 0, 0, INTER_NEAREST);
+        out = m;
+    }
+    return out;
+}
+
+void DetectionStats::reset()
+{
+    t_quantize_ms = t_tree_ms = t_valid_ms = t_total_ms = 0;
+    locations = rejected = validated = candidates = 0;
+    rejected_at_depth.clear();
+    rejection_map.release();
+}
+
+// ---------------------------------------------------------------------------------------------
+/** Dense quantized patch of a template at the coarsest level, kept to build its descriptor. */
+struct DensePatch
+{
+    std::vector<Mat> quantized; //!< [modality] CV_8U, the template's box at the coarsest level
+    Mat mask;                   //!< CV_8U, nonzero on the object
+};
+
+struct TemplateRef
+{
+    String class_id;
+    int template_id;
+};
+
+struct Detector::Impl
+{
+    DetectorParams params;
+    std::map<String, std::vector<TemplatePose> > poses;
+    std::map<String, std::vector<DensePatch> > patches;
+    //! depth samples (x, y relative to the template's top-left at level 0, z mm)
+    std::map<String, std::vector<std::vector<Point3i> > > depth;
+
+    // trained state
+    bool trained;
+    Ptr<TemplateForest> forest;
+    std::vector<TemplateRef> rows;        //!< forest row -> template
+    std::vector<Point> grid;              //!< descriptor grid offsets from the anchor (coarsest level)
+    std::vector<int> plane_of;            //!< per descriptor dimension
+    std::vector<Point> dim_offset;        //!< per descriptor dimension
+    Mutex mutex;
+
+    Impl() : trained(false) {}
+};
+
+// ---------------------------------------------------------------------------------------------
+Detector::Detector() : impl_(makePtr<Impl>()) {}
+
+Detector::Detector(const std::vector<Ptr<Modality> >& _modalities,
+                   const std::vector<int>& T_pyramid, const DetectorParams& params)
+    : cv::linemod::Detector(_modalities, T_pyramid), impl_(makePtr<Impl>())
+{
+    if (_modalities.empty())
+        CV_Error(Error::StsBadArg, "forestmod::Detector: at least one modality is needed");
+    if (T_pyramid.empty())
+        CV_Error(Error::StsBadArg, "forestmod::Detector: T_pyramid must not be empty");
+    for (size_t i = 0; i < _modalities.size(); ++i)
+        CV_Assert(!_modalities[i].empty() && "forestmod::Detector: null modality");
+    for (size_t i = 0; i < T_pyramid.size(); ++i)
+        CV_CheckGT(T_pyramid[i], 0, "forestmod::Detector: every T must be positive");
+    checkParams(params);
+    impl_->params = params;
+}
+
+Detector::~Detector() {}
+
+DetectorParams Detector::getParams() const
+{
+    return impl_->params;
+}
+
+void Detector::setParams(const DetectorParams& params)
+{
+    checkParams(params);
+    AutoLock lock(impl_->mutex);
+    impl_->params = params;
+    impl_->trained = false;
+    impl_->forest.release();
+}
+
+Ptr<TemplateForest> Detector::getForest() const
+{
+    return impl_->forest;
+}
+
+bool Detector::isTrained() const
+{
+    return impl_->trained;
+}
+
+TemplatePose Detector::getTemplatePose(const String& class_id, int template_id) const
+{
+    std::map<String, std::vector<TemplatePose> >::const_iterator it = impl_->poses.find(class_id);
+    if (it == impl_->poses.end() || template_id < 0 || template_id >= (int)it->second.size())
+        CV_Error_(Error::StsBadArg, ("forestmod::Detector: no template %d of class '%s'",
+                                     template_id, class_id.c_str()));
+    return it->second[template_id];
+}
+
+// ---------------------------------------------------------------------------------------------
+static void checkSources(const std::vector<Ptr<Modality> >& modalities,
+                         const std::vector<Mat>& sources, const std::vector<Mat>& masks,
+                         const char* where)
+{
+    if (modalities.empty())
+        CV_Error_(Error::StsError, ("forestmod::Detector::%s: the detector has no modalities "
+                                    "(default-constructed? use a factory or read a model)",
+                                    where));
+    if (sources.size() != modalities.size())
+        CV_Error_(Error::StsBadArg, ("forestmod::Detector::%s: %d sources for %d modalities",
+                                     where, (int)sources.size(), (int)modalities.size()));
+    for (size_t i = 0; i < sources.size(); ++i)
+    {
+        if (sources[i].empty())
+            CV_Error_(Error::StsBadArg, ("forestmod::Detector::%s: source %d (%s) is empty",
+                                         where, (int)i, modalities[i]->name().c_str()));
+        const String name = modalities[i]->name();
+        if (name == "DepthNormal" && sources[i].type() != CV_16UC1)
+            CV_Error_(Error::StsUnsupportedFormat,
+                      ("forestmod::Detector::%s: source %d (DepthNormal) must be CV_16UC1 depth "
+                       "in mm, got %s", where, (int)i, typeToString(sources[i].type()).c_str()));
+        if ((name == "ColorGradient" || name == "ColorHue") && sources[i].type() != CV_8UC3)
+            CV_Error_(Error::StsUnsupportedFormat,
+                      ("forestmod::Detector::%s: source %d (%s) must be a CV_8UC3 BGR image, "
+                       "got %s", where, (int)i, name.c_str(),
+                       typeToString(sources[i].type()).c_str()));
+        if (sources[i].size() != sources[0].size())
+            CV_Error_(Error::StsUnmatchedSizes,
+                      ("forestmod::Detector::%s: source %d is %dx%d, source 0 is %dx%d", where,
+                       (int)i, sources[i].cols, sources[i].rows, sources[0].cols,
+                       sources[0].rows));
+    }
+    if (!masks.empty())
+    {
+        if (masks.size() != sources.size())
+            CV_Error_(Error::StsBadArg, ("forestmod::Detector::%s: %d masks for %d sources",
+                                         where, (int)masks.size(), (int)sources.size()));
+        for (size_t i = 0; i < masks.size(); ++i)
+            if (!masks[i].empty() && (masks[i].size() != sources[i].size()
+                                      || masks[i].type() != CV_8UC1))
+                CV_Error_(Error::StsUnmatchedSizes,
+                          ("forestmod::Detector::%s: mask %d must be CV_8UC1 of the source's "
+                           "size", where, (int)i));
+    }
+}
+
+// LINEMOD's cropTemplates: box over the features of all levels and modalities, features
+// shifted to it. Returns the box in level-0 pixels.
+static Rect cropTemplatePyramid(TemplatePyramid& templates)
+{
+    int min_x = INT_MAX, min_y = INT_MAX, max_x = INT_MIN, max_y = INT_MIN;
+    for (size_t i = 0; i < templates.size(); ++i)
+        for (size_t j = 0; j < templates[i].features.size(); ++j)
+        {
+            const int x = templates[i].features[j].x << templates[i].pyramid_level;
+            const int y = templates[i].features[j].y << templates[i].pyramid_level;
+            min_x = std::min(min_x, x);
+            min_y = std::min(min_y, y);
+            max_x = std::max(max_x, x);
+            max_y = std::max(max_y, y);
+        }
+    if (min_x % 2 == 1)
+        --min_x;
+    if (min_y % 2 == 1)
+        --min_y;
+    for (size_t i = 0; i < templates.size(); ++i)
+    {
+        Template& t = templates[i];
+        t.width = (max_x - min_x) >> t.pyramid_level;
+        t.height = (max_y - min_y) >> t.pyramid_level;
+        const int ox = min_x >> t.pyramid_level, oy = min_y >> t.pyramid_level;
+        for (size_t j = 0; j < t.features.size(); ++j)
+        {
+            t.features[j].x -= ox;
+            t.features[j].y -= oy;
+        }
+    }
+    return Rect(min_x, min_y, max_x - min_x, max_y - min_y);
+}
+
+static int templateAddImpl(Detector& self, std::vector<Ptr<Modality> >& modalities,
+                           int pyramid_levels, std::map<String, std::vector<TemplatePyramid> >& ct,
+                           Detector::Impl& impl, const std::vector<Mat>& sources,
+                           const String& class_id, const Mat& object_mask, const TemplatePose& pose,
+                           Rect* bounding_box)
+{
+    (void)self;
+    std::vector<Mat> masks;
+    checkSources(modalities, sources, masks, "addTemplate");
+    if (object_mask.empty() || object_mask.type() != CV_8UC1
+        || object_mask.size() != sources[0].size())
+        CV_Error(Error::StsBadArg, "forestmod::Detector::addTemplate: object_mask must be a "
+                                   "CV_8UC1 image of the sources' size");
+    if (countNonZero(object_mask) == 0)
+        CV_Error(Error::StsBadArg, "forestmod::Detector::addTemplate: object_mask is empty");
+
+    const int M = static_cast<int>(modalities.size());
+    TemplatePyramid tp(M * pyramid_levels);
+    DensePatch patch;
+    std::vector<Mat> coarse_quantized(M);
+    for (int i = 0; i < M; ++i)
+    {
+        Ptr<QuantizedPyramid> qp = modalities[i]->process(sources[i], object_mask);
+        for (int l = 0; l < pyramid_levels; ++l)
+        {
+            if (l > 0)
+                qp->pyrDown();
+            if (!qp->extractTemplate(tp[l * M + i]))
+                return -1;
+        }
+        qp->quantize(coarse_quantized[i]);
+    }
+    const Rect bb = cropTemplatePyramid(tp);
+    if (bounding_box)
+        *bounding_box = bb;
+
+    // the template's dense quantized box at the coarsest level (for its forest descriptor)
+    const int L = pyramid_levels - 1;
+    const Mat coarse_mask = downsampleNearest(object_mask, L);
+    const Template& top = tp[L * M];
+    const Point origin(bb.x >> L, bb.y >> L);
+    Rect box(origin.x, origin.y, top.width + 1, top.height + 1);
+    box &= Rect(0, 0, coarse_mask.cols, coarse_mask.rows);
+
+    // depth samples spread over the (eroded) object, away from depth edges, relative to the
+    // template's top-left at level 0
+    std::vector<Point3i> depth_samples;
+    const int dm = depthModality(modalities);
+    if (dm >= 0 && impl.params.depth_samples > 0)
+    {
+        Mat inner;
+        erode(object_mask, inner, Mat(), Point(-1, -1), 3, BORDER_CONSTANT, Scalar(0));
+        std::vector<Point3i> all;
+        for (int y = 0; y < inner.rows; ++y)
+            for (int x = 0; x < inner.cols; ++x)
+                if (inner.at<uchar>(y, x) && sources[dm].at<ushort>(y, x))
+                    all.push_back(Point3i(x - bb.x, y - bb.y, sources[dm].at<ushort>(y, x)));
+        const size_t n = std::min(all.size(), (size_t)impl.params.depth_samples);
+        for (size_t i = 0; i < n; ++i)
+            depth_samples.push_back(all[i * all.size() / n]);
+    }
+
+    std::vector<TemplatePyramid>& pyramids = ct[class_id];
+    const int template_id = static_cast<int>(pyramids.size());
+    pyramids.push_back(tp);
+    std::vector<TemplatePose>& poses = impl.poses[class_id];
+    poses.resize(template_id);
+    poses.push_back(pose);
+    std::vector<DensePatch>& patches = impl.patches[class_id];
+    patches.resize(template_id);
+    patches.push_back(patch);
+    std::vector<std::vector<Point3i> >& depth = impl.depth[class_id];
+    depth.resize(template_id);
+    depth.push_back(depth_samples);
+    impl.trained = false;
+    return template_id;
+}
+
+int Detector::addTemplate(const std::vector<Mat>& sources, const String& class_id,
+                          const Mat& object_mask, Rect* bounding_box)
+{
+    AutoLock lock(impl_->mutex);
+    return templateAddImpl(*this, modalities, pyramid_levels, class_templates, *impl_, sources,
+                           class_id, object_mask, TemplatePose(), bounding_box);
+}
+
+int Detector::addTemplate(const std::vector<Mat>& sources, const String& class_id,
+                          const Mat& object_mask, const Matx33d& R, const Vec3d& t,
+                          const Matx33d& K, Rect* bounding_box)
+{
+    TemplatePose pose;
+    pose.R = R;
+    pose.t = t;
+    pose.K = K;
+    pose.valid = true;
+    AutoLock lock(impl_->mutex);
+    return templateAddImpl(*this, modalities, pyramid_levels, class_templates, *impl_, sources,
+                           class_id, object_mask, pose, bounding_box);
+}
+
+static std::vector<Mat> sourcesFor(const std::vector<Ptr<Modality> >& modalities,
+                                   const Mat& color, const Mat& depth)
+{
+    std::vector<Mat> sources;
+    for (size_t i = 0; i < modalities.size(); ++i)
+    {
+        const String name = modalities[i]->name();
+        if (name == "DepthNormal")
+            sources.push_back(depth);
+        else if (name == "ColorGradient" || name == "ColorHue")
+            sources.push_back(color);
+        else
+            CV_Error_(Error::StsNotImplemented,
+                      ("forestmod::Detector::addTemplates: no rendered source for modality '%s'",
+                       name.c_str()));
+    }
+    return sources;
+}
+
+int Detector::addTemplates(const Mesh& mesh, const String& class_id, const ViewSampler& sampler,
+                           const Matx33d& K, Size size,
+                           const std::function<bool(int, int)>& progress)
+{
+    if (modalities.empty())
+        CV_Error(Error::StsError, "forestmod::Detector::addTemplates: no modalities");
+    int added = 0;
+    renderTemplates(mesh, sampler, K, size,
+                    [&](const TemplateView& v, int done, int total) -> bool {
+                        if (countNonZero(v.mask) > 0)
+                        {
+                            const std::vector<Mat> sources = sourcesFor(modalities, v.color,
+                                                                        v.depth);
+                            if (addTemplate(sources, class_id, v.mask, v.R, v.t, v.K) >= 0)
+                                ++added;
+                        }
+                        return progress ? progress(done, total) : true;
+                    });
+    return added;
+}
+
+int Detector::addSyntheticTemplate(const std::vector<Template>& templates, const String& class_id)
+{
+    const int M = static_cast<int>(modalities.size());
+    if (M == 0 || (int)templates.size() != M * pyramid_levels)
+        CV_Error_(Error::StsBadArg, ("forestmod::Detector::addSyntheticTemplate: expected %d "
+                                     "templates (modalities x pyramid levels), got %d",
+                                     M * pyramid_levels, (int)templates.size()));
+    AutoLock lock(impl_->mutex);
+    std::vector<TemplatePyramid>& pyramids = class_templates[class_id];
+    const int template_id = static_cast<int>(pyramids.size());
+    pyramids.push_back(templates);
+    impl_->poses[class_id].resize(template_id + 1);
+    impl_->patches[class_id].resize(template_id + 1); // empty: descriptor from the features
+    impl_->depth[class_id].resize(template_id + 1);
+    impl_->trained = false;
+    return template_id;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Descriptor of one template under the window geometry (paper: v_T = {Psi(O, r)}): its quantized
+// value at every grid point and modality; foreground where the grid point is on its mask.
+static void templateDescriptor(const TemplatePyramid& tp, const DensePatch& patch, int M, int L,
+                               const std::vector<Point>& grid, int grid_step, Point shift,
+                               uchar* desc, uchar* fg)
+{
+    const Template& top = tp[L * M];
+    const Point anchor = Point(top.width / 2, top.height / 2) + shift;
+    const int G = static_cast<int>(grid.size());
+    if (!patch.mask.empty())
+    {
+        for (int m = 0; m < M; ++m)
+            for (int g = 0; g < G; ++g)
+            {
+                const Point p = anchor + grid[g];
+                const int j = m * G + g;
+                desc[j] = 0;
+                fg[j] = 0;
+                if (p.x >= 0 && p.y >= 0 && p.x < patch.mask.cols && p.y < patch.mask.rows
+                    && patch.mask.at<uchar>(p))
+                {
+                    desc[j] = patch.quantized[m].at<uchar>(p);
+                    fg[j] = 1;
+                }
+            }
+        return;
+    }
+    // synthetic template (features only): a grid point takes the label of a feature within half
+    // a grid step, and is foreground when it does
+    const int r2 = std::max(1, (grid_step * grid_step) / 4);
+    for (int m = 0; m < M; ++m)
+    {
+        const Template& t = tp[L * M + m];
+        for (int g = 0; g < G; ++g)
+        {
+            const Point p = anchor + grid[g];
+            const int j = m * G + g;
+            desc[j] = 0;
+            fg[j] = 0;
+            int best = INT_MAX;
+            for (size_t k = 0; k < t.features.size(); ++k)
+            {
+                const int dx = t.features[k].x - p.x, dy = t.features[k].y - p.y;
+                const int d2 = dx * dx + dy * dy;
+                if (d2 <= r2 && d2 < best)
+                {
+                    best = d2;
+                    desc[j] = static_cast<uchar>(1 << t.features[k].label);
+                    fg[j] = 1;
+                }
+            }
+        }
+    }
+}
+
+void Detector::train()
+{
+    AutoLock lock(impl_->mutex);
+    Impl& impl = *impl_;
+    const int M = static_cast<int>(modalities.size());
+    if (M == 0)
+        CV_Error(Error::StsError, "forestmod::Detector::train: the detector has no modalities");
+    const int N = numTemplates();
+    if (N == 0)
+        CV_Error(Error::StsError, "forestmod::Detector::train: no templates (addTemplate first)");
+    const int L = pyramid_levels - 1;
+
+    // window geometry: a grid_size x grid_size grid over the largest template at the coarsest level
+    int half = 1;
+    impl.rows.clear();
+    for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
+         it != class_templates.end(); ++it)
+        for (size_t i = 0; i < it->second.size(); ++i)
+        {
+            const Template& top = it->second[i][L * M];
+            half = std::max(half, (std::max(top.width, top.height) + 1) / 2);
+            TemplateRef ref;
+            ref.class_id = it->first;
+            ref.template_id = static_cast<int>(i);
+            impl.rows.push_back(ref);
+        }
+    const int G = impl.params.grid_size;
+    const double step = 2.0 * half / G;
+    impl.grid.clear();
+    for (int gy = 0; gy < G; ++gy)
+        for (int gx = 0; gx < G; ++gx)
+            impl.grid.push_back(Point(cvFloor(-half + (gx + 0.5) * step),
+                                      cvFloor(-half + (gy + 0.5) * step)));
+    const int P = static_cast<int>(impl.grid.size());
+    impl.plane_of.resize(M * P);
+    impl.dim_offset.resize(M * P);
+    for (int m = 0; m < M; ++m)
+        for (int g = 0; g < P; ++g)
+        {
+            impl.plane_of[m * P + g] = m;
+            impl.dim_offset[m * P + g] = impl.grid[g];
+        }
+
+    // each template also as seen from locations up to `a` pixels off its anchor (the scene is
+    // queried every location_step pixels): doc/forest.md, "Misaligned windows"
+    const int S = locationStep(impl.params, T_at_level[L]);
+    const int a = S / 2;
+    std::vector<Point> shifts;
+    for (int dy = -a; dy <= a; ++dy)
+        for (int dx = -a; dx <= a; ++dx)
+            shifts.push_back(Point(dx, dy));
+    const int R = static_cast<int>(shifts.size());
+    Mat desc(N * R, M * P, CV_8U), fg(N * R, M * P, CV_8U), ids(N * R, 1, CV_32S);
+    for (int r = 0; r < N; ++r)
+    {
+        const TemplateRef& ref = impl.rows[r];
+        const TemplatePyramid& tp = class_templates[ref.class_id][ref.template_id];
+        const std::vector<DensePatch>& patches = impl.patches[ref.class_id];
+        DensePatch empty;
+        const DensePatch& patch = ref.template_id < (int)patches.size()
+            ? patches[ref.template_id] : empty;
+        for (int k = 0; k < R; ++k)
+        {
+            templateDescriptor(tp, patch, M, L, impl.grid, std::max(1, cvRound(step)), shifts[k],
+                               desc.ptr(r * R + k), fg.ptr(r * R + k));
+            ids.at<int>(r * R + k) = r;
+        }
+    }
+    ForestParams fp = impl.params.forest;
+    if (fp.max_depth <= 0)
+    {
+        // paper: 8 for one object, 9 for several; deeper when there are many more templates
+        // than the paper's ~1000 per object (doc/forest.md: depth ~ log2(N / 8))
+        const int paper = class_templates.size() > 1 ? 9 : 8;
+        fp.max_depth = std::max(paper, (int)std::ceil(std::log2(std::max(1.0, N / 8.0))));
+    }
+    Ptr<TemplateForest> forest = TemplateForest::create(fp);
+    forest->train(desc, fg, ids);
+    impl.forest = forest;
+    impl.trained = true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Frame quantization: once per frame, every later stage reads these maps in place.
+static void quantizeFrame(const std::vector<Ptr<Modality> >& modalities,
+                          const std::vector<int>& T_at_level, const std::vector<Mat>& sources,
+                          const std::vector<Mat>& masks, int pad0,
+                          std::vector<LevelMaps>& levels, OutputArrayOfArrays quantized_images)
+{
+    const int M = static_cast<int>(modalities.size());
+    const int levels_n = static_cast<int>(T_at_level.size());
+    levels.assign(levels_n, LevelMaps());
+    std::vector<Ptr<QuantizedPyramid> > qps(M);
+    for (int i = 0; i < M; ++i)
+        qps[i] = modalities[i]->process(sources[i], masks.empty() ? Mat() : masks[i]);
+    if (quantized_images.needed())
+        quantized_images.create(1, levels_n * M, CV_8U);
+    for (int l = 0; l < levels_n; ++l)
+    {
+        LevelMaps& lm = levels[l];
+        lm.T = T_at_level[l];
+        lm.pad = pad0;
+        lm.quantized.resize(M);
+        lm.spread.resize(M);
+        lm.response.resize(M);
+        for (int i = 0; i < M; ++i)
+        {
+            if (l > 0)
+                qps[i]->pyrDown();
+            qps[i]->quantize(lm.quantized[i]);
+            lm.size = lm.quantized[i].size();
+            detail::spreadLabels(lm.quantized[i], lm.spread[i], lm.T, lm.pad);
+            detail::computeResponseMaps(lm.spread[i], lm.response[i]);
+            if (quantized_images.needed())
+                lm.quantized[i].copyTo(quantized_images.getMatRef(l * M + i));
+        }
+    }
+}
+
+namespace {
+struct MatchLess
+{
+    bool operator()(const Match& a, const Match& b) const { return a < b; }
+};
+} // namespace
+
+// LINEMOD's pyramid refinement of coarse matches (identical arithmetic).
+static void refineMatches(const std::vector<LevelMaps>& levels, const TemplatePyramid& tp, int M,
+                          float threshold, std::vector<Match>& cands)
+{
+    const int levels_n = static_cast<int>(levels.size());
+    for (int l = levels_n - 2; l >= 0; --l)
+    {
+        const LevelMaps& lm = levels[l];
+        const int T = lm.T;
+        const int border = 8 * T;
+        const int offset = T / 2 + (T % 2 - 1);
+        const int max_x = lm.size.width - tp[l * M].width - border;
+        const int max_y = lm.size.height - tp[l * M].height - border;
+        for (size_t k = 0; k < cands.size(); ++k)
+        {
+            Match& m = cands[k];
+            int x = m.x * 2 + 1, y = m.y * 2 + 1;
+            x = std::max(x, border);
+            y = std::max(y, border);
+            x = std::min(x, max_x);
+            y = std::min(y, max_y);
+            int num_features = 0, best = 0, best_r = -1, best_c = -1;
+            const int ox = (x / T - 8) * T, oy = (y / T - 8) * T;
+            for (int r = 0; r < 16; ++r)
+                for (int c = 0; c < 16; ++c)
+                {
+                    const int s = detail::similarityAll(lm, tp, l, Point(ox + c * T, oy + r * T),
+                                                        &num_features);
+                    if (s > best)
+                    {
+                        best = s;
+                        best_r = r;
+                        best_c = c;
+                    }
+                }
+            m.x = (x / T - 8 + best_c) * T + offset;
+            m.y = (y / T - 8 + best_r) * T + offset;
+            m.similarity = num_features ? (best * 100.f) / (4 * num_features) : 0.f;
+        }
+        std::vector<Match> kept;
+        for (size_t k = 0; k < cands.size(); ++k)
+            if (!(cands[k].similarity < threshold))
+                kept.push_back(cands[k]);
+        cands.swap(kept);
+    }
+}
+
+static int rawThreshold(float threshold, int num_features)
+{
+    return static_cast<int>(2 * num_features + (threshold / 100.f) * (2 * num_features) + 0.5f);
+}
+
+static void nonMaximumSuppression(std::vector<Match>& matches,
+                                  const std::map<String, std::vector<TemplatePyramid> >& ct,
+                                  float iou)
+{
+    std::vector<Match> kept;
+    std::vector<Rect> boxes;
+    for (size_t i = 0; i < matches.size(); ++i)
+    {
+        const Template& t0 = ct.find(matches[i].class_id)->second[matches[i].template_id][0];
+        const Rect box(matches[i].x, matches[i].y, std::max(1, t0.width), std::max(1, t0.height));
+        bool keep = true;
+        for (size_t j = 0; j < boxes.size() && keep; ++j)
+        {
+            const double inter = (box & boxes[j]).area();
+            const double uni = box.area() + boxes[j].area() - inter;
+            keep = uni <= 0 || inter / uni <= iou;
+        }
+        if (keep)
+        {
+            kept.push_back(matches[i]);
+            boxes.push_back(box);
+        }
+    }
+    matches.swap(kept);
+}
+
+void Detector::match(const std::vector<Mat>& sources, float threshold, std::vector<Match>& matches,
+                     const std::vector<String>& class_ids, OutputArrayOfArrays quantized_images,
+                     const std::vector<Mat>& masks) const
+{
+    match(sources, threshold, matches, class_ids, quantized_images, masks, 0);
+}
+
+void Detector::match(const std::vector<Mat>& sources, float threshold, std::vector<Match>& matches,
+                     const std::vector<String>& class_ids, OutputArrayOfArrays quantized_images,
+                     const std::vector<Mat>& masks, DetectionStats* stats) const
+{
+    const int64 t0 = getTickCount();
+    matches.clear();
+    checkSources(modalities, sources, masks, "match");
+    if (numTemplates() == 0)
+        CV_Error(Error::StsError, "forestmod::Detector::match: the detector has no templates");
+    Impl& impl = *impl_;
+    const DetectorParams& params = impl.params;
+    if (params.use_forest && !impl.trained)
+        const_cast<Detector*>(this)->train(); // automatic training after templates changed
+
+    const int M = static_cast<int>(modalities.size());
+    const int L = pyramid_levels - 1;
+
+    // which classes
+    std::vector<String> classes;
+    if (class_ids.empty())
+        classes = classIds();
+    else
+        for (size_t i = 0; i < class_ids.size(); ++i)
+            if (class_templates.count(class_ids[i]))
+                classes.push_back(class_ids[i]);
+
+    int max_extent = 0;
+    for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
+         it != class_templates.end(); ++it)
+        for (size_t i = 0; i < it->second.size(); ++i)
+            max_extent = std::max(max_extent, std::max(it->second[i][0].width,
+                                                       it->second[i][0].height));
+
+    std::vector<LevelMaps> levels;
+    quantizeFrame(modalities, T_at_level, sources, masks, 0, levels, quantized_images);
+    const int dm = depthModality(modalities);
+    const bool use_depth = dm >= 0 && params.depth_samples > 0;
+    const int64 t1 = getTickCount();
+    const LevelMaps& top = levels[L];
+    const int T = top.T;
+    const int offsetL = T / 2 + (T % 2 - 1);
+
+    std::vector<Match> coarse; // (class, template) coarse matches, x/y as LINEMOD reports them
+    double t_tree = 0, t_valid = 0;
+    if (!params.use_forest)
+    {
+        // exhaustive: every template at every grid position where it fits (LINEMOD)
+        for (size_t ci = 0; ci < classes.size(); ++ci)
+        {
+            const std::vector<TemplatePyramid>& tps = class_templates.find(classes[ci])->second;
+            std::vector<std::vector<Match> > per(tps.size());
+            parallel_for_(Range(0, (int)tps.size()), [&](const Range& range) {
+                for (int id = range.start; id < range.end; ++id)
+                {
+                    const TemplatePyramid& tp = tps[id];
+                    const Template& t = tp[L * M];
+                    const int W = top.size.width / T, H = top.size.height / T;
+                    const int span_x = W - ((t.width - 1) / T + 1);
+                    const int span_y = H - ((t.height - 1) / T + 1);
+                    int nf = 0;
+                    for (int m = 0; m < M; ++m)
+                        nf += (int)tp[L * M + m].features.size();
+                    const int raw_thr = rawThreshold(threshold, nf);
+                    for (int r = 0; r <= span_y; ++r)
+                        for (int c = 0; c <= span_x; ++c)
+                        {
+                            const int raw = detail::similarityAll(top, tp, L, Point(c * T, r * T));
+                            if (raw > raw_thr)
+                                per[id].push_back(Match(c * T + offsetL, r * T + offsetL,
+                                                        (raw * 100.f) / (4 * nf) + 0.5f,
+                                                        classes[ci], id));
+                        }
+                    refineMatches(levels, tp, M, threshold, per[id]);
+                }
+            });
+            for (size_t id = 0; id < per.size(); ++id)
+                matches.insert(matches.end(), per[id].begin(), per[id].end());
+        }
+        t_valid = (getTickCount() - t1) * 1000.0 / getTickFrequency();
+        if (stats)
+        {
+            stats->locations += (int64)(top.size.width / T) * (top.size.height / T);
+            stats->validated += stats->locations;
+        }
+    }
+    else
+    {
+        const TemplateForest& forest = *impl.forest;
+        std::vector<uchar> class_allowed(impl.rows.size(), 1);
+        if (!class_ids.empty())
+            for (size_t r = 0; r < impl.rows.size(); ++r)
+                class_allowed[r] = std::find(classes.begin(), classes.end(),
+                                             impl.rows[r].class_id) != classes.end();
+        const int S = std::min(locationStep(params, T), T);
+        const int W = (top.size.width + S - 1) / S, H = (top.size.height + S - 1) / S;
+        const int D = static_cast<int>(impl.plane_of.size());
+        std::vector<const uchar*> planes(M);
+        // the forest reads the plain quantized images (one label per point, as the templates it
+        // was trained on; spreading would add labels and mislead the splits: doc/forest.md) up to
+        // half a template around a location: a zero border of that size keeps every read inside
+        // the buffer without a bounds check per value
+        std::vector<Mat> bordered(M);
+        const int B = (max_extent >> L) + 2 * T + 2;
+        for (int m = 0; m < M; ++m)
+        {
+            copyMakeBorder(top.quantized[m], bordered[m], B, B, B, B, BORDER_CONSTANT, Scalar(0));
+            planes[m] = bordered[m].ptr();
+        }
+        const size_t step = bordered[0].step;
+        std::vector<int> delta(D);
+        for (int j = 0; j < D; ++j)
+            delta[j] = impl.dim_offset[j].y * (int)step + impl.dim_offset[j].x;
+        std::vector<int> plane_of(impl.plane_of);
+
+        Mat rejection_map;
+        if (stats)
+            rejection_map.create(H, W, CV_16SC1);
+        // per location: forest -> candidates -> breadth-first validation -> best survivor
+        std::vector<std::vector<Match> > per_row(H);
+        std::vector<ForestQueryStats> row_stats(H);
+        std::vector<double> row_tree(H, 0), row_valid(H, 0);
+        std::vector<int64> row_validated(H, 0), row_cands(H, 0);
+        parallel_for_(Range(0, H), [&](const Range& range) {
+            std::vector<int> cands;
+            std::vector<detail::ValidationCandidate> vc;
+            std::vector<int> survivors;
+            for (int r = range.start; r < range.end; ++r)
+            {
+                for (int c = 0; c < W; ++c)
+                {
+                    const int64 q0 = getTickCount();
+                    LocationView view;
+                    view.planes = &planes[0];
+                    view.plane_of = &plane_of[0];
+                    view.delta = &delta[0];
+                    view.offset = (ptrdiff_t)(r * S + B) * (ptrdiff_t)step + (c * S + B);
+                    int depth = -1;
+                    const bool ok = forest.query(view, cands, &depth, &row_stats[r]);
+                    const int64 q1 = getTickCount();
+                    row_tree[r] += (double)(q1 - q0);
+                    if (stats)
+                        rejection_map.at<short>(r, c) = (short)(ok ? -1 : depth);
+                    if (!ok || cands.empty())
+                        continue;
+                    vc.clear();
+                    for (size_t k = 0; k < cands.size(); ++k)
+                    {
+                        const int row = cands[k];
+                        if (!class_allowed[row])
+                            continue;
+                        const TemplateRef& ref = impl.rows[row];
+                        const TemplatePyramid& tp
+                            = class_templates.find(ref.class_id)->second[ref.template_id];
+                        const Template& t = tp[L * M];
+                        detail::ValidationCandidate v;
+                        v.index = row;
+                        v.tp = &tp;
+                        // the true anchor lies within S/2 of the location; spread responses
+                        // cover [p, p + T): start S/2 before
+                        v.tl = Point(c * S - t.width / 2 - S / 2, r * S - t.height / 2 - S / 2);
+                        v.raw = v.scored = 0;
+                        v.total = 0;
+                        for (int m = 0; m < M; ++m)
+                            v.total += (int)tp[L * M + m].features.size();
+                        vc.push_back(v);
+                    }
+                    if (vc.empty())
+                        continue;
+                    ++row_validated[r];
+                    row_cands[r] += (int64)vc.size();
+                    if (params.breadth_first)
+                        detail::validateBreadthFirst(top, L, M, vc, params.chunk_size,
+                                                     params.alpha, params.max_survivors,
+                                                     survivors);
+                    else
+                    {
+                        detail::validateAll(top, L, vc);
+                        survivors.clear();
+                        for (size_t k = 0; k < vc.size(); ++k)
+                            survivors.push_back((int)k);
+                    }
+                    // the survivors over the detection threshold go on to pyramid refinement
+                    std::sort(survivors.begin(), survivors.end(), [&](int a, int b) {
+                        return vc[a].raw * (int64)vc[b].total > vc[b].raw * (int64)vc[a].total;
+                    });
+                    for (size_t k = 0; k < survivors.size() && (int)k < params.max_survivors; ++k)
+                    {
+                        const detail::ValidationCandidate& v = vc[survivors[k]];
+                        if (v.raw <= rawThreshold(threshold, v.total))
+                            continue;
+                        const TemplateRef& ref = impl.rows[v.index];
+                        per_row[r].push_back(Match(v.tl.x + offsetL, v.tl.y + offsetL,
+                                                   (v.raw * 100.f) / (4 * v.total) + 0.5f,
+                                                   ref.class_id, ref.template_id));
+                    }
+                    row_valid[r] += (double)(getTickCount() - q1);
+                }
+            }
+        });
+        // refinement up the pyramid, per template
+        const int64 r0 = getTickCount();
+        for (int r = 0; r < H; ++r)
+            coarse.insert(coarse.end(), per_row[r].begin(), per_row[r].end());
+        parallel_for_(Range(0, (int)coarse.size()), [&](const Range& range) {
+            for (int k = range.start; k < range.end; ++k)
+            {
+                std::vector<Match> one(1, coarse[k]);
+                const TemplatePyramid& tp
+                    = class_templates.find(coarse[k].class_id)->second[coarse[k].template_id];
+                refineMatches(levels, tp, M, threshold, one);
+                if (!one.empty() && use_depth)
+                {
+                    // depth as another validation modality, at the refined position
+                    const std::vector<Point3i>& ds
+                        = impl.depth.find(one[0].class_id)->second[one[0].template_id];
+                    if (!ds.empty())
+                    {
+                        int nf = 0;
+                        for (int m = 0; m < M; ++m)
+                            nf += (int)tp[m].features.size();
+                        const double a = detail::depthAgreement(sources[dm], ds,
+                                                                 Point(one[0].x, one[0].y),
+                                                                 params.depth_tolerance);
+                        const int ns = (int)ds.size();
+                        one[0].similarity = (float)((one[0].similarity * nf + 100.0 * a * ns)
+                                                    / (nf + ns));
+                        if (one[0].similarity < threshold)
+                            one.clear();
+                    }
+                }
+                if (one.empty())
+                    coarse[k].similarity = -1.f;
+                else
+                    coarse[k] = one[0];
+            }
+        });
+        for (size_t k = 0; k < coarse.size(); ++k)
+            if (coarse[k].similarity >= 0.f)
+                matches.push_back(coarse[k]);
+        const double tick_ms = 1000.0 / getTickFrequency();
+        double tree = 0, valid = 0;
+        for (int r = 0; r < H; ++r)
+        {
+            tree += row_tree[r];
+            valid += row_valid[r];
+        }
+        // per-row times are summed over threads: scale to the wall time of the whole stage
+        const double wall = (double)(r0 - t1);
+        const double busy = tree + valid;
+        t_tree = busy > 0 ? wall * (tree / busy) * tick_ms : 0;
+        t_valid = (busy > 0 ? wall * (valid / busy) : 0) * tick_ms
+            + (getTickCount() - r0) * tick_ms;
+        if (stats)
+        {
+            for (int r = 0; r < H; ++r)
+            {
+                const ForestQueryStats& s = row_stats[r];
+                stats->locations += s.locations;
+                stats->rejected += s.rejected;
+                if (stats->rejected_at_depth.size() < s.rejected_at_depth.size())
+                    stats->rejected_at_depth.resize(s.rejected_at_depth.size(), 0);
+                for (size_t d = 0; d < s.rejected_at_depth.size(); ++d)
+                    stats->rejected_at_depth[d] += s.rejected_at_depth[d];
+                stats->validated += row_validated[r];
+                stats->candidates += row_cands[r];
+            }
+            stats->rejection_map = rejection_map;
+        }
+    }
+
+    std::sort(matches.begin(), matches.end(), MatchLess());
+    matches.erase(std::unique(matches.begin(), matches.end()), matches.end());
+    if (params.nms_iou > 0.f && params.nms_iou < 1.f)
+        nonMaximumSuppression(matches, class_templates, params.nms_iou);
+    if (stats)
+    {
+        const double tick_ms = 1000.0 / getTickFrequency();
+        stats->t_quantize_ms += (t1 - t0) * tick_ms;
+        stats->t_tree_ms += t_tree;
+        stats->t_valid_ms += t_valid;
+        stats->t_total_ms += (getTickCount() - t0) * tick_ms;
+    }
+}
+
+void Detector::match(const std::vector<Mat>& sources, float threshold,
+                     std::vector<PoseMatch>& matches, const std::vector<String>& class_ids,
+                     const std::vector<Mat>& masks, DetectionStats* stats) const
+{
+    std::vector<Match> plain;
+    match(sources, threshold, plain, class_ids, noArray(), masks, stats);
+    matches.clear();
+    for (size_t i = 0; i < plain.size(); ++i)
+    {
+        PoseMatch pm(plain[i]);
+        const Template& t0 = class_templates.find(plain[i].class_id)->second[plain[i].template_id][0];
+        pm.box = Rect(plain[i].x, plain[i].y, t0.width, t0.height);
+        pm.pose = getTemplatePose(plain[i].class_id, plain[i].template_id);
+        matches.push_back(pm);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Persistence
+
+Ptr<Modality> createModality(const FileNode& fn)
+{
+    if (fn.empty() || !fn.isMap())
+        CV_Error(Error::StsParseError, "forestmod::createModality: expected a modality map node");
+    const String type = fn["type"];
+    if (type == "ColorHue")
+    {
+        Ptr<ColorHue> hue = ColorHue::create();
+        hue->read(fn);
+        return hue;
+    }
+    if (type == "ColorGradient" || type == "DepthNormal")
+        return Modality::create(fn);
+    CV_Error_(Error::StsParseError, ("forestmod::createModality: unknown modality type '%s'",
+                                     type.c_str()));
+}
+
+void Detector::read(const FileNode& fn)
+{
+    if (fn.empty() || !fn.isMap())
+        CV_Error(Error::StsParseError, "forestmod::Detector::read: expected a map node");
+    FileNode mods = fn["modalities"];
+    if (mods.empty() || !mods.isSeq() || mods.size() == 0)
+        CV_Error(Error::StsParseError, "forestmod::Detector::read: no 'modalities' sequence");
+    std::vector<Ptr<Modality> > new_modalities;
+    for (FileNodeIterator it = mods.begin(); it != mods.end(); ++it)
+        new_modalities.push_back(createModality(*it));
+    std::vector<int> T;
+    fn["T"] >> T;
+    const int levels = (int)fn["pyramid_levels"];
+    if (T.empty() || (int)T.size() != levels)
+        CV_Error(Error::StsParseError, "forestmod::Detector::read: 'pyramid_levels' and 'T' "
+                                       "are missing or disagree");
+    DetectorParams p;
+    if (!fn["forestmod_params"].empty())
+        p.read(fn["forestmod_params"]);
+    checkParams(p);
+    AutoLock lock(impl_->mutex);
+    modalities = new_modalities;
+    pyramid_levels = levels;
+    T_at_level = T;
+    class_templates.clear();
+    impl_->poses.clear();
+    impl_->patches.clear();
+    impl_->depth.clear();
+    impl_->params = p;
+    impl_->trained = false;
+    impl_->forest.release();
+}
+
+void Detector::write(FileStorage& fs) const
+{
+    fs << "pyramid_levels" << pyramid_levels;
+    fs << "T" << T_at_level;
+    fs << "modalities" << "[";
+    for (size_t i = 0; i < modalities.size(); ++i)
+    {
+        fs << "{";
+        modalities[i]->write(fs);
+        fs << "}";
+    }
+    fs << "]";
+    fs << "forestmod_params" << "{";
+    impl_->params.write(fs);
+    fs << "}";
+}
+
+static void writePose(FileStorage& fs, const TemplatePose& p)
+{
+    fs << "{";
+    fs << "valid" << (int)p.valid;
+    if (p.valid)
+    {
+        fs << "R" << Mat(p.R);
+        fs << "t" << Mat(p.t);
+        fs << "K" << Mat(p.K);
+    }
+    fs << "}";
+}
+
+static TemplatePose readPose(const FileNode& fn)
+{
+    TemplatePose p;
+    p.valid = !fn["valid"].empty() && (int)fn["valid"] != 0;
+    if (p.valid)
+    {
+        Mat R, t, K;
+        fn["R"] >> R;
+        fn["t"] >> t;
+        fn["K"] >> K;
+        if (R.total() != 9 || t.total() != 3 || K.total() != 9)
+            CV_Error(Error::StsParseError, "forestmod::Detector: corrupt template pose "
+                                           "(R 3x3, t 3x1, K 3x3 expected)");
+        R.convertTo(R, CV_64F);
+        t.convertTo(t, CV_64F);
+        K.convertTo(K, CV_64F);
+        p.R = Matx33d(R.reshape(1, 3));
+        p.t = Vec3d(t.reshape(1, 3));
+        p.K = Matx33d(K.reshape(1, 3));
+    }
+    return p;
+}
+
+String Detector::readClass(const FileNode& fn, const String& class_id_override)
+{
+    if (fn.empty() || !fn.isMap())
+        CV_Error(Error::StsParseError, "forestmod::Detector::readClass: expected a map node");
+    // same layout as cv::linemod::Detector::writeClass, plus optional poses and patches
+    FileNode mod_fn = fn["modalities"];
+    if (mod_fn.empty() || (int)mod_fn.size() != (int)modalities.size())
+        CV_Error(Error::StsParseError, "forestmod::Detector::readClass: the class was written "
+                                       "with another number of modalities");
+    int i = 0;
+    for (FileNodeIterator it = mod_fn.begin(); it != mod_fn.end(); ++it, ++i)
+        if ((String)(*it) != modalities[i]->name())
+            CV_Error_(Error::StsParseError,
+                      ("forestmod::Detector::readClass: modality %d is '%s' in the file, '%s' "
+                       "in the detector", i, ((String)(*it)).c_str(),
+                       modalities[i]->name().c_str()));
+    if ((int)fn["pyramid_levels"] != pyramid_levels)
+        CV_Error(Error::StsParseError, "forestmod::Detector::readClass: the class was written "
+                                       "with another number of pyramid levels");
+    const String class_id = class_id_override.empty() ? (String)fn["class_id"]
+                                                       : class_id_override;
+    if (class_id.empty())
+        CV_Error(Error::StsParseError, "forestmod::Detector::readClass: no class_id");
+    FileNode tps_fn = fn["template_pyramids"];
+    if (tps_fn.empty() || !tps_fn.isSeq())
+        CV_Error(Error::StsParseError, "forestmod::Detector::readClass: no template_pyramids");
+    std::vector<TemplatePyramid> tpyramids;
+    const int expected = pyramid_levels * static_cast<int>(modalities.size());
+    int expected_id = 0;
+    for (FileNodeIterator tps_it = tps_fn.begin(); tps_it != tps_fn.end(); ++tps_it, ++expected_id)
+    {
+        const int template_id = (*tps_it)["template_id"];
+        if (template_id != expected_id)
+            CV_Error(Error::StsParseError, "forestmod::Detector::readClass: template ids out of "
+                                           "order (corrupt file?)");
+        FileNode templates_fn = (*tps_it)["templates"];
+        if ((int)templates_fn.size() != expected)
+            CV_Error(Error::StsParseError, "forestmod::Detector::readClass: wrong number of "
+                                           "templates in a pyramid (corrupt file?)");
+        TemplatePyramid tp(expected);
+        int k = 0;
+        for (FileNodeIterator t_it = templates_fn.begin(); t_it != templates_fn.end(); ++t_it, ++k)
+            tp[k].read(*t_it);
+        tpyramids.push_back(tp);
+    }
+    std::vector<TemplatePose> poses(tpyramids.size());
+    FileNode poses_fn = fn["forestmod_poses"];
+    if (!poses_fn.empty())
+    {
+        if ((int)poses_fn.size() != (int)tpyramids.size())
+            CV_Error(Error::StsParseError, "forestmod::Detector::readClass: number of poses and "
+                                           "templates differ (corrupt file?)");
+        int k = 0;
+        for (FileNodeIterator it = poses_fn.begin(); it != poses_fn.end(); ++it, ++k)
+            poses[k] = readPose(*it);
+    }
+    std::vector<DensePatch> patches(tpyramids.size());
+    FileNode patches_fn = fn["forestmod_patches"];
+    if (!patches_fn.empty())
+    {
+        if ((int)patches_fn.size() != (int)tpyramids.size())
+            CV_Error(Error::StsParseError, "forestmod::Detector::readClass: number of patches "
+                                           "and templates differ (corrupt file?)");
+        int k = 0;
+        for (FileNodeIterator it = patches_fn.begin(); it != patches_fn.end(); ++it, ++k)
+        {
+            (*it)["mask"] >> patches[k].mask;
+            FileNode q = (*it)["quantized"];
+            for (FileNodeIterator qi = q.begin(); qi != q.end(); ++qi)
+            {
+                Mat m;
+                *qi >> m;
+                patches[k].quantized.push_back(m);
+            }
+            if (!patches[k].mask.empty()
+                && (patches[k].quantized.size() != modalities.size()
+                    || patches[k].mask.type() != CV_8UC1))
+                CV_Error(Error::StsParseError, "forestmod::Detector::readClass: corrupt template "
+                                               "patch");
+        }
+    }
+    std::vector<std::vector<Point3i> > depth(tpyramids.size());
+    FileNode depth_fn = fn["forestmod_depth"];
+    if (!depth_fn.empty())
+    {
+        if ((int)depth_fn.size() != (int)tpyramids.size())
+            CV_Error(Error::StsParseError, "forestmod::Detector::readClass: number of depth "
+                                           "sample sets and templates differ (corrupt file?)");
+        int k = 0;
+        for (FileNodeIterator it = depth_fn.begin(); it != depth_fn.end(); ++it, ++k)
+        {
+            Mat m;
+            *it >> m;
+            if (m.empty())
+                continue;
+            if (m.type() != CV_32S || m.cols != 3)
+                CV_Error(Error::StsParseError, "forestmod::Detector::readClass: corrupt depth "
+                                               "samples");
+            for (int j = 0; j < m.rows; ++j)
+                depth[k].push_back(Point3i(m.at<int>(j, 0), m.at<int>(j, 1), m.at<int>(j, 2)));
+        }
+    }
+    AutoLock lock(impl_->mutex);
+    class_templates[class_id] = tpyramids;
+    impl_->poses[class_id] = poses;
+    impl_->patches[class_id] = patches;
+    impl_->depth[class_id] = depth;
+    impl_->trained = false;
+    return class_id;
+}
+
+void Detector::writeClass(const String& class_id, FileStorage& fs) const
+{
+    std::map<String, std::vector<TemplatePyramid> >::const_iterator it
+        = class_templates.find(class_id);
+    if (it == class_templates.end())
+        CV_Error_(Error::StsBadArg, ("forestmod::Detector::writeClass: no class '%s'",
+                                     class_id.c_str()));
+    const std::vector<TemplatePyramid>& tps = it->second;
+    fs << "class_id" << it->first;
+    fs << "modalities" << "[:";
+    for (size_t i = 0; i < modalities.size(); ++i)
+        fs << modalities[i]->name();
+    fs << "]";
+    fs << "pyramid_levels" << pyramid_levels;
+    fs << "template_pyramids" << "[";
+    for (size_t i = 0; i < tps.size(); ++i)
+    {
+        fs << "{";
+        fs << "template_id" << int(i);
+        fs << "templates" << "[";
+        for (size_t j = 0; j < tps[i].size(); ++j)
+        {
+            fs << "{";
+            tps[i][j].write(fs);
+            fs << "}";
+        }
+        fs << "]";
+        fs << "}";
+    }
+    fs << "]";
+    std::map<String, std::vector<TemplatePose> >::const_iterator pit = impl_->poses.find(class_id);
+    fs << "forestmod_poses" << "[";
+    for (size_t i = 0; i < tps.size(); ++i)
+        writePose(fs, pit != impl_->poses.end() && i < pit->second.size() ? pit->second[i]
+                                                                          : TemplatePose());
+    fs << "]";
+    std::map<String, std::vector<DensePatch> >::const_iterator dit = impl_->patches.find(class_id);
+    fs << "forestmod_patches" << "[";
+    for (size_t i = 0; i < tps.size(); ++i)
+    {
+        fs << "{";
+        if (dit != impl_->patches.end() && i < dit->second.size() && !dit->second[i].mask.empty())
+        {
+            fs << "mask" << dit->second[i].mask;
+            fs << "quantized" << "[";
+            for (size_t m = 0; m < dit->second[i].quantized.size(); ++m)
+                fs << dit->second[i].quantized[m];
+            fs << "]";
+        }
+        fs << "}";
+    }
+    fs << "]";
+    std::map<String, std::vector<std::vector<Point3i> > >::const_iterator zit
+        = impl_->depth.find(class_id);
+    fs << "forestmod_depth" << "[";
+    for (size_t i = 0; i < tps.size(); ++i)
+    {
+        Mat m;
+        if (zit != impl_->depth.end() && i < zit->second.size() && !zit->second[i].empty())
+            m = Mat(zit->second[i]).reshape(1).clone();
+        fs << m;
+    }
+    fs << "]";
+}
+
+void Detector::readClasses(const std::vector<String>& class_ids, const String& format)
+{
+    for (size_t i = 0; i < class_ids.size(); ++i)
+    {
+        const String filename = cv::format(format.c_str(), class_ids[i].c_str());
+        FileStorage fs(filename, FileStorage::READ);
+        if (!fs.isOpened())
+            CV_Error_(Error::StsError, ("forestmod::Detector::readClasses: cannot open '%s'",
+                                        filename.c_str()));
+        readClass(fs.root());
+    }
+}
+
+void Detector::writeClasses(const String& format) const
+{
+    for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
+         it != class_templates.end(); ++it)
+    {
+        const String filename = cv::format(format.c_str(), it->first.c_str());
+        FileStorage fs(filename, FileStorage::WRITE);
+        if (!fs.isOpened())
+            CV_Error_(Error::StsError, ("forestmod::Detector::writeClasses: cannot write '%s'",
+                                        filename.c_str()));
+        writeClass(it->first, fs);
+    }
+}
+
+void Detector::save(const String& filename, bool overwrite) const
+{
+    if (!overwrite && utils::fs::exists(filename))
+        CV_Error_(Error::StsError, ("forestmod::Detector::save: '%s' exists (pass overwrite = "
+                                    "true to replace it)", filename.c_str()));
+    FileStorage fs(filename, FileStorage::WRITE | FileStorage::BASE64);
+    if (!fs.isOpened())
+        CV_Error_(Error::StsError, ("forestmod::Detector::save: cannot write '%s'",
+                                    filename.c_str()));
+    fs << "forestmod_model_version" << MODEL_FORMAT_VERSION;
+    fs << "detector" << "{";
+    write(fs);
+    fs << "}";
+    fs << "classes" << "[";
+    for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
+         it != class_templates.end(); ++it)
+    {
+        fs << "{";
+        writeClass(it->first, fs);
+        fs << "}";
+    }
+    fs << "]";
+    if (impl_->trained && impl_->forest)
+    {
+        fs << "forest" << "{";
+        impl_->forest->write(fs);
+        fs << "}";
+    }
+}
+
+void Detector::load(const String& filename)
+{
+    FileStorage fs;
+    try
+    {
+        fs.open(filename, FileStorage::READ);
+    }
+    catch (const cv::Exception& e)
+    {
+        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is not a readable "
+                                         "model file: %s", filename.c_str(), e.err.c_str()));
+    }
+    if (!fs.isOpened())
+        CV_Error_(Error::StsError, ("forestmod::Detector::load: cannot open '%s'",
+                                    filename.c_str()));
+    FileNode v = fs["forestmod_model_version"];
+    if (v.empty())
+        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is not a forestmod "
+                                         "model (no forestmod_model_version)", filename.c_str()));
+    if ((int)v != MODEL_FORMAT_VERSION)
+        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' has model format %d, "
+                                         "this build reads %d", filename.c_str(), (int)v,
+                                         MODEL_FORMAT_VERSION));
+    read(fs["detector"]);
+    FileNode classes = fs["classes"];
+    if (classes.empty() || !classes.isSeq())
+        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' has no classes",
+                                         filename.c_str()));
+    for (FileNodeIterator it = classes.begin(); it != classes.end(); ++it)
+        readClass(*it);
+    FileNode forest_fn = fs["forest"];
+    if (!forest_fn.empty())
+    {
+        // the forest is retrained deterministically from the same templates and seed rather than
+        // trusted blindly: reading it restores the geometry too
+        train();
+        Ptr<TemplateForest> f = TemplateForest::create(impl_->forest->getParams());
+        f->read(forest_fn);
+        if (f->numTemplates() != numTemplates() || f->dims() != impl_->forest->dims())
+            CV_Error_(Error::StsParseError, ("forestmod::Detector::load: the forest in '%s' does "
+                                             "not fit its templates (corrupt file?)",
+                                             filename.c_str()));
+        impl_->forest = f;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+static const int T_DEFAULTS[] = { 5, 8 };
+
+Ptr<Detector> getDefaultForestLINE()
+{
+    std::vector<Ptr<Modality> > modalities;
+    modalities.push_back(Modality::create("ColorGradient"));
+    modalities.push_back(ColorHue::create());
+    return makePtr<Detector>(modalities, std::vector<int>(T_DEFAULTS, T_DEFAULTS + 2));
+}
+
+Ptr<Detector> getDefaultForestLINEMOD()
+{
+    std::vector<Ptr<Modality> > modalities;
+    modalities.push_back(Modality::create("ColorGradient"));
+    modalities.push_back(Modality::create("DepthNormal"));
+    modalities.push_back(ColorHue::create());
+    return makePtr<Detector>(modalities, std::vector<int>(T_DEFAULTS, T_DEFAULTS + 2));
+}
+
+} // namespace forestmod
+} // namespace cv

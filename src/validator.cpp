@@ -1,0 +1,229 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Validation stage (paper: "Fast Breadth-first Leaf Validation"): LINEMOD's similarity, read in
+// place from the frame's response maps, and the breadth-first preemptive scheme.
+
+#include "precomp.hpp"
+#include "validator.hpp"
+
+#include "opencv2/core/hal/intrin.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+void spreadLabels(const Mat& src, Mat& dst, int T, int pad)
+{
+    CV_Assert(src.type() == CV_8UC1 && T > 0 && pad >= 0);
+    // separable: OR over [c, c + T) along rows, then over [r, r + T) along columns (2T passes
+    // instead of T^2); outside the image counts as 0
+    const int rows = src.rows + pad, cols = src.cols + pad;
+    Mat padded;
+    copyMakeBorder(src, padded, 0, pad + T, 0, pad + T, BORDER_CONSTANT, Scalar(0));
+    Mat horiz = Mat::zeros(rows + T, cols, CV_8U);
+    for (int r = 0; r < rows + T; ++r)
+    {
+        const uchar* s = padded.ptr<uchar>(r);
+        uchar* d = horiz.ptr<uchar>(r);
+        for (int dc = 0; dc < T; ++dc)
+        {
+            int c = 0;
+#if CV_SIMD128
+            for (; c <= cols - 16; c += 16)
+                v_store(d + c, v_load(d + c) | v_load(s + c + dc));
+#endif
+            for (; c < cols; ++c)
+                d[c] |= s[c + dc];
+        }
+    }
+    dst = Mat::zeros(rows, cols, CV_8U);
+    for (int r = 0; r < rows; ++r)
+    {
+        uchar* d = dst.ptr<uchar>(r);
+        for (int dr = 0; dr < T; ++dr)
+        {
+            const uchar* s = horiz.ptr<uchar>(r + dr);
+            int c = 0;
+#if CV_SIMD128
+            for (; c <= cols - 16; c += 16)
+                v_store(d + c, v_load(d + c) | v_load(s + c));
+#endif
+            for (; c < cols; ++c)
+                d[c] |= s[c];
+        }
+    }
+}
+
+// similarity of orientation o to a single label l: 4 - circular distance, clamped at 0
+static uchar labelSimilarity(int o, int l)
+{
+    int d = std::abs(o - l);
+    d = std::min(d, 8 - d);
+    return static_cast<uchar>(std::max(0, 4 - d));
+}
+
+void computeResponseMaps(const Mat& spread, std::vector<Mat>& response)
+{
+    CV_Assert(spread.type() == CV_8UC1);
+    response.resize(8);
+    for (int o = 0; o < 8; ++o)
+    {
+        uchar lut[256];
+        for (int b = 0; b < 256; ++b)
+        {
+            uchar best = 0;
+            for (int l = 0; l < 8; ++l)
+                if (b & (1 << l))
+                    best = std::max(best, labelSimilarity(o, l));
+            lut[b] = best;
+        }
+        Mat lutm(1, 256, CV_8U, lut);
+        LUT(spread, lutm, response[o]);
+    }
+}
+
+int similarityRange(const LevelMaps& level, int modality, const cv::linemod::Template& templ,
+                    Point tl, int begin, int end)
+{
+    const std::vector<Mat>& resp = level.response[modality];
+    const int W = level.size.width + level.pad, H = level.size.height + level.pad;
+    int sum = 0;
+    for (int i = begin; i < end; ++i)
+    {
+        const cv::linemod::Feature& f = templ.features[i];
+        const int x = tl.x + f.x, y = tl.y + f.y;
+        // LINEMOD skips features that fall outside the image
+        if ((unsigned)x >= (unsigned)W || (unsigned)y >= (unsigned)H)
+            continue;
+        sum += resp[f.label].ptr<uchar>(y)[x];
+    }
+    return sum;
+}
+
+int similarityAll(const LevelMaps& level, const TemplatePyramid& tp, int level_index, Point tl,
+                  int* num_features)
+{
+    const int M = static_cast<int>(level.response.size());
+    int sum = 0, n = 0;
+    for (int m = 0; m < M; ++m)
+    {
+        const cv::linemod::Template& templ = tp[level_index * M + m];
+        const int nf = static_cast<int>(templ.features.size());
+        sum += similarityRange(level, m, templ, tl, 0, nf);
+        n += nf;
+    }
+    if (num_features)
+        *num_features = n;
+    return sum;
+}
+
+double depthAgreement(const Mat& d, const std::vector<Point3i>& samples, Point tl, int tolerance,
+                      int* valid)
+{
+    CV_Assert(d.type() == CV_16UC1);
+    int diff[512];
+    int n = 0;
+    for (size_t i = 0; i < samples.size() && n < 512; ++i)
+    {
+        const int x = tl.x + samples[i].x, y = tl.y + samples[i].y;
+        if ((unsigned)x >= (unsigned)d.cols || (unsigned)y >= (unsigned)d.rows)
+            continue;
+        const int z = d.ptr<ushort>(y)[x];
+        if (z > 0)
+            diff[n++] = z - samples[i].z;
+    }
+    if (valid)
+        *valid = n;
+    if (n == 0 || 2 * n < (int)samples.size())
+        return 0.0;
+    int sorted[512];
+    std::copy(diff, diff + n, sorted);
+    std::nth_element(sorted, sorted + n / 2, sorted + n);
+    const int ref = sorted[n / 2];
+    int agree = 0;
+    for (int i = 0; i < n; ++i)
+        agree += std::abs(diff[i] - ref) <= tolerance;
+    return double(agree) / samples.size();
+}
+
+static int scoreAll(const LevelMaps& level, int level_index, ValidationCandidate& c)
+{
+    return similarityAll(level, *c.tp, level_index, c.tl, &c.total);
+}
+
+void validateAll(const LevelMaps& level, int level_index, std::vector<ValidationCandidate>& cands)
+{
+    for (size_t i = 0; i < cands.size(); ++i)
+    {
+        cands[i].raw = scoreAll(level, level_index, cands[i]);
+        cands[i].scored = cands[i].total;
+    }
+}
+
+void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modalities,
+                          std::vector<ValidationCandidate>& cands, int chunk_size, float alpha,
+                          int max_survivors, std::vector<int>& survivors)
+{
+    CV_Assert(chunk_size > 0 && max_survivors > 0);
+    survivors.clear();
+    std::vector<int> alive(cands.size());
+    for (size_t i = 0; i < cands.size(); ++i)
+    {
+        alive[i] = static_cast<int>(i);
+        cands[i].raw = 0;
+        cands[i].scored = 0;
+    }
+    std::vector<float> scores;
+    // chunk k of a candidate covers the fraction [k/K, (k+1)/K) of every modality's features, so
+    // every chunk samples all modalities and the whole object (features are scattered)
+    for (int k = 0; (int)alive.size() > max_survivors; ++k)
+    {
+        bool any = false;
+        scores.clear();
+        for (size_t a = 0; a < alive.size(); ++a)
+        {
+            ValidationCandidate& c = cands[alive[a]];
+            const int K = std::max(1, (c.total + chunk_size - 1) / chunk_size);
+            if (k < K)
+            {
+                any = true;
+                for (int m = 0; m < num_modalities; ++m)
+                {
+                    const cv::linemod::Template& templ = (*c.tp)[level_index * num_modalities + m];
+                    const int n = static_cast<int>(templ.features.size());
+                    const int b = static_cast<int>((int64)n * k / K);
+                    const int e = static_cast<int>((int64)n * (k + 1) / K);
+                    c.raw += similarityRange(level, m, templ, c.tl, b, e);
+                    c.scored += e - b;
+                }
+
+            }
+            scores.push_back(c.scored ? c.raw / (4.f * c.scored) : 0.f);
+        }
+        if (!any)
+            break;
+        std::vector<float> sorted(scores);
+        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+        const float median = sorted[sorted.size() / 2];
+        std::vector<int> next;
+        for (size_t a = 0; a < alive.size(); ++a)
+            if (scores[a] >= median && scores[a] > alpha)
+                next.push_back(alive[a]);
+        alive.swap(next);
+    }
+    // the survivor(s) are scored on all their features
+    for (size_t a = 0; a < alive.size(); ++a)
+    {
+        ValidationCandidate& c = cands[alive[a]];
+        if (c.scored < c.total)
+            c.raw = scoreAll(level, level_index, c);
+        c.scored = c.total;
+        survivors.push_back(alive[a]);
+    }
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv

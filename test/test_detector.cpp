@@ -1,0 +1,389 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+#include "test_precomp.hpp"
+
+namespace opencv_test { namespace {
+
+// A flat-coloured L-shaped object with a disc, drawn rotated by `angle` around `centre`.
+static void drawObject(Mat& img, Mat* mask, Point2f centre, float angle, float scale)
+{
+    const Point2f pts[] = { Point2f(-40, -50), Point2f(10, -50), Point2f(10, 10), Point2f(45, 10),
+                            Point2f(45, 50), Point2f(-40, 50) };
+    std::vector<Point> poly;
+    const float c = std::cos(angle * (float)CV_PI / 180), s = std::sin(angle * (float)CV_PI / 180);
+    for (size_t i = 0; i < sizeof(pts) / sizeof(pts[0]); ++i)
+    {
+        const Point2f p = pts[i] * scale;
+        poly.push_back(Point(cvRound(centre.x + c * p.x - s * p.y),
+                             cvRound(centre.y + s * p.x + c * p.y)));
+    }
+    fillConvexPoly(img, &poly[0], 4, Scalar(30, 60, 200), LINE_AA);
+    std::vector<std::vector<Point> > polys(1, poly);
+    fillPoly(img, polys, Scalar(30, 60, 200), LINE_AA);
+    const Point2f d = Point2f(-15, 25) * scale;
+    const Point disc(cvRound(centre.x + c * d.x - s * d.y), cvRound(centre.y + s * d.x + c * d.y));
+    circle(img, disc, cvRound(14 * scale), Scalar(200, 140, 20), FILLED, LINE_AA);
+    if (mask)
+    {
+        *mask = Mat::zeros(img.size(), CV_8U);
+        fillPoly(*mask, polys, Scalar(255));
+    }
+}
+
+static Mat clutter(Size size, RNG& rng)
+{
+    Mat coarse(size.height / 20 + 1, size.width / 20 + 1, CV_8UC3), img;
+    rng.fill(coarse, RNG::UNIFORM, Scalar::all(40), Scalar::all(160));
+    resize(coarse, img, size, 0, 0, INTER_LINEAR);
+    for (int i = 0; i < 25; ++i)
+    {
+        const Point a(rng.uniform(0, size.width), rng.uniform(0, size.height));
+        const Point b = a + Point(rng.uniform(-80, 80), rng.uniform(-80, 80));
+        const Scalar col(rng.uniform(0, 255), rng.uniform(0, 255), rng.uniform(0, 255));
+        if (i % 2)
+            rectangle(img, a, b, col, FILLED);
+        else
+            line(img, a, b, col, 3);
+    }
+    return img;
+}
+
+// n templates of the object at angles -40..40 and two scales
+template <typename D>
+static void addObjectTemplates(D& det, int n, const String& class_id, std::vector<float>* angles)
+{
+    const Size size(640, 480);
+    for (int i = 0; i < n; ++i)
+    {
+        const float angle = -40.f + 80.f * i / std::max(1, n - 1);
+        const float scale = (i % 2) ? 1.0f : 0.85f;
+        Mat img = Mat::zeros(size, CV_8UC3), mask;
+        drawObject(img, &mask, Point2f(320, 240), angle, scale);
+        std::vector<Mat> sources(det.getModalities().size(), img);
+        ASSERT_GE(det.addTemplate(sources, class_id, mask), 0) << i;
+        if (angles)
+            angles->push_back(angle);
+    }
+}
+
+static Ptr<linemod::Modality> gradient() { return linemod::Modality::create("ColorGradient"); }
+
+static std::vector<int> Tpyr()
+{
+    std::vector<int> T;
+    T.push_back(5);
+    T.push_back(8);
+    return T;
+}
+
+TEST(Forestmod_Detector, exhaustive_mode_equals_linemod)
+{
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(gradient());
+    mods.push_back(ColorHue::create());
+    DetectorParams p;
+    p.use_forest = false;
+    p.nms_iou = 0.f;
+    cv::linemod::Detector ref(mods, Tpyr());
+    cv::forestmod::Detector det(mods, Tpyr(), p);
+    addObjectTemplates(ref, 12, "obj", 0);
+    addObjectTemplates(det, 12, "obj", 0);
+    ASSERT_EQ(ref.numTemplates(), det.numTemplates());
+
+    RNG rng(7);
+    Mat scene = clutter(Size(640, 480), rng);
+    drawObject(scene, 0, Point2f(260, 300), 12.f, 1.0f);
+    std::vector<Mat> sources(2, scene);
+    std::vector<linemod::Match> a, b;
+    const float thr = 70.f;
+    ref.match(sources, thr, a);
+    det.match(sources, thr, b);
+    ASSERT_FALSE(a.empty());
+    ASSERT_FALSE(b.empty());
+    // cv::linemod may add matches whose template wrapped around the right image border (its
+    // linear memories do); every other match must be identical.
+    int found = 0;
+    for (size_t i = 0; i < b.size(); ++i)
+    {
+        bool same = false;
+        for (size_t j = 0; j < a.size() && !same; ++j)
+            same = a[j].x == b[i].x && a[j].y == b[i].y && a[j].template_id == b[i].template_id
+                && std::fabs(a[j].similarity - b[i].similarity) <= 0.005f * a[j].similarity;
+        found += same;
+    }
+    EXPECT_EQ((int)b.size(), found);
+    EXPECT_GE(b.size(), (size_t)(0.9 * a.size())) << a.size() << " vs " << b.size();
+    EXPECT_EQ(a[0].x, b[0].x);
+    EXPECT_EQ(a[0].y, b[0].y);
+    EXPECT_EQ(a[0].template_id, b[0].template_id);
+    EXPECT_NEAR(a[0].similarity, b[0].similarity, 0.005 * a[0].similarity);
+}
+
+// the same program for both types: drop-in
+template <typename D>
+static void dropInProgram(const std::string& tag, bool* found)
+{
+    std::vector<Ptr<linemod::Modality> > mods(1, gradient());
+    D det(mods, Tpyr());
+    std::vector<float> angles;
+    addObjectTemplates(det, 9, "L", &angles);
+    const std::string fmt = cv::tempfile(("_" + tag + "_%s.yml.gz").c_str());
+    det.writeClasses(fmt);
+    D det2(mods, Tpyr());
+    std::vector<String> ids(1, "L");
+    det2.readClasses(ids, fmt);
+    std::remove(cv::format(fmt.c_str(), "L").c_str());
+    ASSERT_EQ(det.numTemplates(), det2.numTemplates());
+    ASSERT_EQ(1, det2.numClasses());
+    RNG rng(99);
+    Mat scene = clutter(Size(640, 480), rng);
+    drawObject(scene, 0, Point2f(400, 260), 10.f, 1.0f);
+    std::vector<linemod::Match> matches;
+    det2.match(std::vector<Mat>(1, scene), 80.f, matches, ids);
+    ASSERT_FALSE(matches.empty()) << tag;
+    const linemod::Match& m = matches[0];
+    const std::vector<linemod::Template>& t = det2.getTemplates(m.class_id, m.template_id);
+    const Point centre(m.x + t[0].width / 2, m.y + t[0].height / 2);
+    EXPECT_LE(cv::norm(centre - Point(400, 260)), 12.0) << tag << " " << centre;
+    EXPECT_LE(std::fabs(angles[m.template_id] - 10.f), 10.1f) << tag;
+    *found = true;
+}
+
+TEST(Forestmod_Detector, drop_in_for_linemod_programs)
+{
+    bool a = false, b = false;
+    dropInProgram<cv::linemod::Detector>("linemod", &a);
+    dropInProgram<cv::forestmod::Detector>("forestmod", &b);
+    EXPECT_TRUE(a);
+    EXPECT_TRUE(b);
+}
+
+TEST(Forestmod_Detector, forest_finds_object_and_rejects_background)
+{
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(gradient());
+    mods.push_back(ColorHue::create());
+    cv::forestmod::Detector det(mods, Tpyr());
+    std::vector<float> angles;
+    addObjectTemplates(det, 40, "L", &angles);
+    det.train();
+    ASSERT_TRUE(det.isTrained());
+    RNG rng(3);
+    int hits = 0;
+    double rejected = 0;
+    const int trials = 8;
+    for (int k = 0; k < trials; ++k)
+    {
+        Mat scene = clutter(Size(640, 480), rng);
+        const Point2f at(rng.uniform(150.f, 490.f), rng.uniform(130.f, 350.f));
+        const float angle = rng.uniform(-35.f, 35.f);
+        drawObject(scene, 0, at, angle, 1.0f);
+        std::vector<cv::forestmod::PoseMatch> matches;
+        DetectionStats stats;
+        det.match(std::vector<Mat>(2, scene), 80.f, matches, std::vector<String>(),
+                  std::vector<Mat>(), &stats);
+        rejected += stats.rejectedFraction();
+        EXPECT_GT(stats.locations, 0);
+        if (matches.empty())
+            continue;
+        const Point2f c(matches[0].box.x + matches[0].box.width / 2.f,
+                        matches[0].box.y + matches[0].box.height / 2.f);
+        if (cv::norm(c - at) <= 10 && std::fabs(angles[matches[0].template_id] - angle) <= 12)
+            ++hits;
+    }
+    EXPECT_GE(hits, trials - 1);
+    std::cout << "[ INFO    ] rejected before validation: " << 100 * rejected / trials << " %"
+              << std::endl;
+    EXPECT_GE(rejected / trials, 0.5);
+}
+
+TEST(Forestmod_Detector, more_than_63_features_and_single_modality)
+{
+    // 150 gradient features per template: 8-bit accumulation would overflow
+    std::vector<Ptr<linemod::Modality> > mods(1, linemod::ColorGradient::create(10.f, 150, 55.f));
+    DetectorParams p;
+    p.use_forest = false;
+    cv::forestmod::Detector det(mods, Tpyr(), p);
+    addObjectTemplates(det, 5, "L", 0);
+    const std::vector<linemod::Template>& t = det.getTemplates("L", 0);
+    ASSERT_GT(t[0].features.size(), 63u);
+    RNG rng(5);
+    Mat scene = clutter(Size(640, 480), rng);
+    drawObject(scene, 0, Point2f(300, 200), -20.f, 1.0f); // template 1
+    std::vector<linemod::Match> matches;
+    det.match(std::vector<Mat>(1, scene), 80.f, matches);
+    ASSERT_FALSE(matches.empty());
+    EXPECT_LE(matches[0].similarity, 100.f);
+    EXPECT_GT(matches[0].similarity, 80.f);
+    const Point centre(matches[0].x + t[0].width / 2, matches[0].y + t[0].height / 2);
+    EXPECT_LE(cv::norm(centre - Point(300, 200)), 12.0)
+        << matches.size() << " matches; best " << matches[0].x << "," << matches[0].y << " "
+        << matches[0].similarity << " t" << matches[0].template_id << " w " << t[0].width;
+    // and with the forest on
+    DetectorParams pf;
+    det.setParams(pf);
+    det.match(std::vector<Mat>(1, scene), 80.f, matches);
+    ASSERT_FALSE(matches.empty());
+    const Point c2(matches[0].x + t[0].width / 2, matches[0].y + t[0].height / 2);
+    EXPECT_LE(cv::norm(c2 - Point(300, 200)), 12.0);
+}
+
+TEST(Forestmod_Detector, any_image_size)
+{
+    std::vector<Ptr<linemod::Modality> > mods(1, gradient());
+    cv::forestmod::Detector det(mods, Tpyr());
+    addObjectTemplates(det, 5, "L", 0);
+    RNG rng(11);
+    Mat scene = clutter(Size(533, 397), rng); // divisible by neither 16 nor T
+    drawObject(scene, 0, Point2f(250, 190), 0.f, 1.0f);
+    std::vector<linemod::Match> matches;
+    ASSERT_NO_THROW(det.match(std::vector<Mat>(1, scene), 80.f, matches));
+    ASSERT_FALSE(matches.empty());
+}
+
+TEST(Forestmod_Detector, threads_give_identical_results)
+{
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(gradient());
+    mods.push_back(ColorHue::create());
+    cv::forestmod::Detector det(mods, Tpyr());
+    addObjectTemplates(det, 20, "L", 0);
+    det.train();
+    RNG rng(21);
+    std::vector<Mat> scenes;
+    for (int k = 0; k < 4; ++k)
+    {
+        Mat s = clutter(Size(640, 480), rng);
+        drawObject(s, 0, Point2f(200.f + 60 * k, 240.f), 5.f * k, 1.0f);
+        scenes.push_back(s);
+    }
+    std::vector<std::vector<linemod::Match> > serial(4), parallel(4);
+    for (int k = 0; k < 4; ++k)
+        det.match(std::vector<Mat>(2, scenes[k]), 75.f, serial[k]);
+    for (int k = 0; k < 4; ++k)
+    {
+        std::vector<linemod::Match> again;
+        det.match(std::vector<Mat>(2, scenes[k]), 75.f, again);
+        ASSERT_EQ(serial[k].size(), again.size()) << "serial repeat " << k;
+        for (size_t i = 0; i < again.size(); ++i)
+            ASSERT_TRUE(serial[k][i] == again[i]) << "serial repeat " << k << " " << i;
+    }
+    std::vector<std::thread> threads;
+    for (int k = 0; k < 4; ++k)
+        threads.push_back(std::thread([&, k]() {
+            det.match(std::vector<Mat>(2, scenes[k]), 75.f, parallel[k]);
+        }));
+    for (size_t k = 0; k < threads.size(); ++k)
+        threads[k].join();
+    for (int k = 0; k < 4; ++k)
+    {
+        ASSERT_EQ(serial[k].size(), parallel[k].size()) << k;
+        for (size_t i = 0; i < serial[k].size(); ++i)
+            EXPECT_TRUE(serial[k][i] == parallel[k][i])
+                << k << " " << i << ": " << serial[k][i].x << "," << serial[k][i].y << " "
+                << serial[k][i].similarity << " t" << serial[k][i].template_id << " vs "
+                << parallel[k][i].x << "," << parallel[k][i].y << " " << parallel[k][i].similarity
+                << " t" << parallel[k][i].template_id;
+    }
+}
+
+TEST(Forestmod_Detector, bad_input_raises)
+{
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(gradient());
+    mods.push_back(linemod::Modality::create("DepthNormal"));
+    cv::forestmod::Detector det(mods, Tpyr());
+    Mat colour(480, 640, CV_8UC3, Scalar::all(0)), depth(480, 640, CV_16UC1, Scalar(800));
+    std::vector<linemod::Match> m;
+    // untrained / empty detector
+    EXPECT_THROW(det.match(std::vector<Mat>{ colour, depth }, 80.f, m), cv::Exception);
+    cv::forestmod::Detector none;
+    EXPECT_THROW(none.match(std::vector<Mat>(1, colour), 80.f, m), cv::Exception);
+    EXPECT_THROW(none.train(), cv::Exception);
+    // sources: count, empty, types, sizes
+    EXPECT_THROW(det.match(std::vector<Mat>(1, colour), 80.f, m), cv::Exception);
+    EXPECT_THROW(det.match(std::vector<Mat>{ colour, Mat() }, 80.f, m), cv::Exception);
+    EXPECT_THROW(det.match(std::vector<Mat>{ colour, Mat(480, 640, CV_32FC1) }, 80.f, m),
+                 cv::Exception);
+    EXPECT_THROW(det.match(std::vector<Mat>{ colour, Mat(240, 320, CV_16UC1) }, 80.f, m),
+                 cv::Exception);
+    Mat mask = Mat::zeros(480, 640, CV_8U);
+    EXPECT_THROW(det.addTemplate(std::vector<Mat>{ colour, depth }, "x", mask), cv::Exception);
+    EXPECT_THROW(det.addTemplate(std::vector<Mat>{ colour, depth }, "x", Mat()), cv::Exception);
+    EXPECT_THROW(det.addTemplate(std::vector<Mat>{ depth, depth }, "x", mask + 255),
+                 cv::Exception);
+    EXPECT_THROW(cv::forestmod::Detector(std::vector<Ptr<linemod::Modality> >(), Tpyr()),
+                 cv::Exception);
+    try
+    {
+        det.match(std::vector<Mat>{ colour, Mat(480, 640, CV_32FC1) }, 80.f, m);
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(std::string::npos, e.err.find("CV_16UC1")) << e.err;
+    }
+}
+
+TEST(Forestmod_Detector, model_file_roundtrip_and_corrupt_files)
+{
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(gradient());
+    mods.push_back(ColorHue::create());
+    cv::forestmod::Detector det(mods, Tpyr());
+    std::vector<float> angles;
+    const Size size(640, 480);
+    for (int i = 0; i < 10; ++i)
+    {
+        Mat img = Mat::zeros(size, CV_8UC3), mask;
+        drawObject(img, &mask, Point2f(320, 240), -30.f + 6.f * i, 1.f);
+        ASSERT_GE(det.addTemplate(std::vector<Mat>(2, img), "L", mask, Matx33d::eye() * (1 + i),
+                                  Vec3d(1, 2, 500 + i), Matx33d(500, 0, 320, 0, 500, 240, 0, 0, 1)),
+                  0);
+    }
+    det.train();
+    const std::string file = cv::tempfile(".yml.gz");
+    det.save(file);
+    EXPECT_THROW(det.save(file), cv::Exception); // no silent overwrite
+    cv::forestmod::Detector back;
+    back.load(file);
+    EXPECT_EQ(det.numTemplates(), back.numTemplates());
+    EXPECT_TRUE(back.isTrained());
+    const TemplatePose p = back.getTemplatePose("L", 7);
+    EXPECT_TRUE(p.valid);
+    EXPECT_EQ(507, p.t[2]);
+    EXPECT_EQ(8, p.R(0, 0));
+    RNG rng(4);
+    Mat scene = clutter(size, rng);
+    drawObject(scene, 0, Point2f(300, 250), 0.f, 1.f);
+    std::vector<linemod::Match> a, b;
+    det.match(std::vector<Mat>(2, scene), 80.f, a);
+    back.match(std::vector<Mat>(2, scene), 80.f, b);
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i)
+        EXPECT_TRUE(a[i] == b[i]);
+    std::remove(file.c_str());
+
+    // corrupt / foreign files
+    const std::string bad = cv::tempfile(".yml");
+    {
+        std::ofstream f(bad.c_str());
+        f << "%YAML:1.0\nforestmod_model_version: 999\n";
+    }
+    EXPECT_THROW(back.load(bad), cv::Exception);
+    {
+        std::ofstream f(bad.c_str());
+        f << "%YAML:1.0\nsomething: [1, 2\n";
+    }
+    EXPECT_THROW(back.load(bad), cv::Exception);
+    {
+        std::ofstream f(bad.c_str());
+        f << "%YAML:1.0\nnot_a_model: 1\n";
+    }
+    EXPECT_THROW(back.load(bad), cv::Exception);
+    std::remove(bad.c_str());
+    EXPECT_THROW(back.load("/nonexistent/forestmod_model.yml"), cv::Exception);
+}
+
+}} // namespace

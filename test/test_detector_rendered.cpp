@@ -1,0 +1,260 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The detector on scenes rendered in the test: LM-O meshes at poses inside the template range,
+// other meshes as clutter, a real LM-O frame as background, a supporting plane, depth noise.
+
+#include "test_precomp.hpp"
+
+namespace opencv_test { namespace {
+
+static Matx33d lmoK()
+{
+    return Matx33d(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+}
+
+static std::string meshPath(int obj_id)
+{
+    if (obj_id == 1)
+        return cvtest::findDataFile("lmo_mini/models/obj_000001.ply");
+    const std::string shared = sharedDataPath();
+    if (shared.empty())
+        return std::string();
+    return cv::format("%s/lmo/models/obj_%06d.ply", shared.c_str(), obj_id);
+}
+
+static std::vector<Mat> backgrounds()
+{
+    std::vector<Mat> bg;
+    const char* frames[] = { "000224", "000902", "001038" };
+    for (int i = 0; i < 3; ++i)
+        bg.push_back(imread(cvtest::findDataFile(cv::format("lmo_mini/test/000002/rgb/%s.png",
+                                                             frames[i])), IMREAD_COLOR));
+    return bg;
+}
+
+static ViewSampler testSampler()
+{
+    ViewSampler::Params p;
+    p.level = 1;
+    p.min_elevation = 15;
+    p.radii = std::vector<double>(1, 800.0);
+    p.inplane_min = -20;
+    p.inplane_max = 20;
+    p.inplane_step = 20;
+    return ViewSampler(p);
+}
+
+static double rotationAngleDeg(const Matx33d& A, const Matx33d& B)
+{
+    const Matx33d D = A.t() * B;
+    const double c = std::max(-1.0, std::min(1.0, (trace(D) - 1) / 2));
+    return std::acos(c) * 180 / CV_PI;
+}
+
+// rotation that takes the optical axis onto the ray through pixel p
+static Matx33d rayRotation(const Matx33d& K, Point2d p)
+{
+    Vec3d d = K.inv() * Vec3d(p.x, p.y, 1);
+    d *= 1.0 / cv::norm(d);
+    Vec3d axis = Vec3d(0, 0, 1).cross(d);
+    const double s = cv::norm(axis);
+    if (s < 1e-12)
+        return Matx33d::eye();
+    axis *= std::atan2(s, d[2]) / s;
+    Matx33d R;
+    Rodrigues(axis, R);
+    return R;
+}
+
+struct TemplateInfo
+{
+    Point2d centre_offset; // object centre pixel relative to the template's box
+    Matx33d R;
+};
+
+struct Outcome
+{
+    bool hit;
+};
+
+static bool evaluate(const std::vector<PoseMatch>& matches, const std::vector<TemplateInfo>& info,
+                     const SyntheticScene& scene, const Matx33d& K, double* centre_err = 0)
+{
+    if (matches.empty())
+        return false;
+    const PoseMatch& m = matches[0];
+    const TemplateInfo& ti = info[m.template_id];
+    const Point2d centre = Point2d(m.x, m.y) + ti.centre_offset;
+    const double err = cv::norm(centre - scene.center);
+    if (centre_err)
+        *centre_err = err;
+    const Matx33d on_axis = rayRotation(K, scene.center).t() * scene.R;
+    return err <= 10.0 && rotationAngleDeg(ti.R, on_axis) <= 25.0;
+}
+
+TEST(Forestmod_Detector, rendered_scenes_recall_and_rejection)
+{
+    applyTestTag(CV_TEST_TAG_LONG);
+    const int ids[] = { 1, 6, 9 }; // ape (shipped), cat, duck (../shared when present)
+    std::vector<Mesh> meshes;
+    std::vector<int> used;
+    for (int i = 0; i < 3; ++i)
+    {
+        const std::string path = meshPath(ids[i]);
+        if (path.empty())
+            continue;
+        meshes.push_back(Mesh::load(path));
+        used.push_back(ids[i]);
+    }
+    if (meshes.size() < 3)
+        std::cout << "[ SKIP    ] FORESTMOD_SHARED_DATA absent: only the shipped ape is tested"
+                  << std::endl;
+    const Matx33d K = lmoK();
+    const Size size(640, 480);
+    Ptr<Renderer> renderer = Renderer::create(size);
+    SceneSynthesizer synth(renderer, K);
+    for (size_t i = 0; i < meshes.size(); ++i)
+        synth.addObject(meshes[i]);
+    synth.setBackgrounds(backgrounds());
+    const ViewSampler sampler = testSampler();
+
+    for (size_t oi = 0; oi < meshes.size(); ++oi)
+    {
+        std::vector<Ptr<linemod::Modality> > mods;
+        mods.push_back(linemod::Modality::create("ColorGradient"));
+        mods.push_back(linemod::Modality::create("DepthNormal"));
+        mods.push_back(ColorHue::create());
+        std::vector<int> T;
+        T.push_back(5);
+        T.push_back(8);
+        DetectorParams pf, pe;
+        pe.use_forest = false;
+        if (getenv("DBG_NOBF")) pf.breadth_first = false;
+        if (getenv("DBG_TAU")) pf.forest.rejector_tau = (float)atof(getenv("DBG_TAU"));
+        if (getenv("DBG_DEPTH")) pf.forest.max_depth = atoi(getenv("DBG_DEPTH"));
+        if (getenv("DBG_XI")) pf.forest.fuzzy_margin = (float)atof(getenv("DBG_XI"));
+        if (getenv("DBG_ANY")) pf.forest.reject_any_tree = atoi(getenv("DBG_ANY")) != 0;
+        if (getenv("DBG_TREES")) pf.forest.num_trees = atoi(getenv("DBG_TREES"));
+        if (getenv("DBG_RHO")) pf.forest.rejector_rho = (float)atof(getenv("DBG_RHO"));
+        if (getenv("DBG_RDIMS")) pf.forest.rejector_dims = atoi(getenv("DBG_RDIMS"));
+        if (getenv("DBG_STEP")) pf.location_step = atoi(getenv("DBG_STEP"));
+        if (getenv("DBG_GRID")) pf.grid_size = atoi(getenv("DBG_GRID"));
+        if (getenv("DBG_COV")) pf.forest.rejector_coverage = (float)atof(getenv("DBG_COV"));
+        if (getenv("DBG_NOISE")) pf.forest.rejector_noise = (float)atof(getenv("DBG_NOISE"));
+        if (getenv("DBG_K")) pf.max_survivors = atoi(getenv("DBG_K"));
+        if (getenv("DBG_CH")) pf.chunk_size = atoi(getenv("DBG_CH"));
+        if (getenv("DBG_DS")) pf.depth_samples = atoi(getenv("DBG_DS"));
+        cv::forestmod::Detector forest(mods, T, pf), exhaustive(mods, T, pe);
+        std::vector<TemplateInfo> info;
+        std::vector<TemplateView> views;
+        renderTemplates(meshes[oi], sampler, K, size,
+                        [&](const TemplateView& v, int, int) -> bool {
+                            std::vector<Mat> src;
+                            src.push_back(v.color);
+                            src.push_back(v.depth);
+                            src.push_back(v.color);
+                            Rect bb;
+                            const int id = forest.addTemplate(src, "obj", v.mask, v.R, v.t, v.K, &bb);
+                            if (id < 0)
+                                return true;
+                            EXPECT_EQ(id, exhaustive.addTemplate(src, "obj", v.mask, v.R, v.t, v.K));
+                            const Point3f c = meshes[oi].center();
+                            const Vec3d pc = v.K * (v.R * Vec3d(c.x, c.y, c.z) + v.t);
+                            TemplateInfo ti;
+                            ti.centre_offset = Point2d(pc[0] / pc[2] - bb.x, pc[1] / pc[2] - bb.y);
+                            ti.R = v.R;
+                            info.push_back(ti);
+                            TemplateView light = v;
+                            light.color.release();
+                            light.depth.release();
+                            light.mask.release();
+                            views.push_back(light);
+                            return true;
+                        });
+        ASSERT_GT((int)info.size(), sampler.size() / 2) << "obj " << used[oi];
+        forest.train();
+
+        RNG rng(1000 + used[oi]);
+        const int scenes = 30;
+        int hits_f = 0, hits_e = 0;
+        double rejected = 0, err_sum = 0;
+        for (int k = 0; k < scenes; ++k)
+        {
+            const TemplateView& v = views[rng.uniform(0, (int)views.size())];
+            const SyntheticScene scene = synth.render((int)oi, v.R, v.t, rng);
+            std::vector<Mat> src;
+            src.push_back(scene.color);
+            src.push_back(scene.depth);
+            src.push_back(scene.color);
+            std::vector<PoseMatch> mf, me;
+            DetectionStats stats;
+            forest.match(src, 80.f, mf, std::vector<String>(), std::vector<Mat>(), &stats);
+            exhaustive.match(src, 80.f, me);
+            rejected += stats.rejectedFraction();
+            if (getenv("DBG_MAP") && k == 0)
+            {
+                Mat m = stats.rejection_map, vis;
+                Mat passed = m < 0;
+                m.convertTo(vis, CV_8U, 25, 30);
+                vis.setTo(255, passed);
+                resize(vis, vis, scene.color.size(), 0, 0, INTER_NEAREST);
+                Mat col;
+                applyColorMap(vis, col, COLORMAP_JET);
+                Mat both;
+                hconcat(scene.color, col, both);
+                imwrite(cv::format("/tmp/rej_%d.png", used[oi]), both);
+                std::cout << "depth hist:";
+                for (size_t d = 0; d < stats.rejected_at_depth.size(); ++d) std::cout << " " << stats.rejected_at_depth[d];
+                std::cout << std::endl;
+            }
+            double err = -1;
+            hits_f += evaluate(mf, info, scene, K, &err);
+            hits_e += evaluate(me, info, scene, K);
+            err_sum += err;
+        }
+        std::cout << "[ INFO    ] obj " << used[oi] << ": " << info.size() << " templates, forest "
+                  << hits_f << "/" << scenes << ", exhaustive " << hits_e << "/" << scenes
+                  << ", rejected before validation " << cvRound(1000 * rejected / scenes) / 10.0
+                  << " %, mean centre error " << err_sum / scenes << " px" << std::endl;
+        EXPECT_GE(hits_f, cvCeil(0.9 * scenes)) << "obj " << used[oi];
+        EXPECT_GE(hits_f, 0.97 * hits_e) << "obj " << used[oi];
+        EXPECT_GE(rejected / scenes, 0.9) << "obj " << used[oi];
+    }
+}
+
+TEST(Forestmod_Detector, addTemplates_from_mesh_with_poses)
+{
+    const Mesh ape = Mesh::load(meshPath(1));
+    ViewSampler::Params p;
+    p.level = 0;
+    p.min_elevation = 20;
+    p.radii = std::vector<double>(1, 700.0);
+    p.inplane_min = 0;
+    p.inplane_max = 0;
+    p.inplane_step = 10;
+    const ViewSampler sampler(p);
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    int calls = 0;
+    const int n = det->addTemplates(ape, "ape", sampler, lmoK(), Size(640, 480),
+                                    [&](int done, int total) -> bool {
+                                        ++calls;
+                                        EXPECT_LE(done, total);
+                                        return true;
+                                    });
+    EXPECT_EQ(sampler.size(), calls);
+    ASSERT_GT(n, 0);
+    EXPECT_EQ(n, det->numTemplates("ape"));
+    const std::vector<ViewPose> poses = sampler.poses(Point3d(ape.center().x, ape.center().y,
+                                                              ape.center().z));
+    const TemplatePose tp = det->getTemplatePose("ape", 0);
+    ASSERT_TRUE(tp.valid);
+    bool found = false;
+    for (size_t i = 0; i < poses.size(); ++i)
+        found = found || (rotationAngleDeg(poses[i].R, tp.R) < 1e-6
+                          && cv::norm(poses[i].t - tp.t) < 1e-6);
+    EXPECT_TRUE(found);
+}
+
+}} // namespace
