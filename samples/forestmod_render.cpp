@@ -46,7 +46,8 @@ static const char* keys
       "{inplane_step    | 15     | in-plane rotation step (deg) }"
       "{coarse          |        | quick set: level 0, radius 800, no in-plane rotation (6 views) }"
       "{limit           | 0      | stop after this many views (0 = all) }"
-      "{force           |        | write into a non-empty output folder (files are overwritten) }";
+      "{force           |        | write into a non-empty output folder (the PNGs of rgb/, depth/, "
+      "mask/, mask_visib/ and the JSON files of a previous run are deleted first) }";
 
 static std::string joinNumbers(const double* v, int n)
 {
@@ -169,6 +170,24 @@ int main(int argc, char** argv)
             std::cerr << "forestmod_render: output folder '" << out
                       << "' is not empty; pass --force to write into it\n";
             return 1;
+        }
+        if (!entries.empty())
+        {
+            // --force: remove a previous run's output (PNGs in our four folders, our JSON files)
+            // so that no stale view outlives the new JSON; anything else is left alone
+            const char* dirs[] = { "rgb", "depth", "mask", "mask_visib" };
+            for (int i = 0; i < 4; ++i)
+            {
+                std::vector<cv::String> pngs;
+                if (cv::utils::fs::isDirectory(out + "/" + dirs[i]))
+                    cv::utils::fs::glob(out + "/" + dirs[i], "*.png", pngs, false, false);
+                for (size_t k = 0; k < pngs.size(); ++k)
+                    std::remove(pngs[k].c_str());
+            }
+            const char* jsons[] = { "scene_gt.json", "scene_camera.json", "scene_gt_info.json",
+                                    "view_info.json" };
+            for (int i = 0; i < 4; ++i)
+                std::remove((out + "/" + jsons[i]).c_str());
         }
     }
 
