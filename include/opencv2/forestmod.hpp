@@ -6,6 +6,8 @@
 #define OPENCV_FORESTMOD_HPP
 
 #include "opencv2/forestmod/hue.hpp"
+#include "opencv2/forestmod/pose.hpp"
+#include "opencv2/forestmod/dataset.hpp"
 
 /** @defgroup forestmod Fuzzy template forest for real-time 6-DoF pose estimation
 
@@ -16,6 +18,8 @@ background rejector; candidates of a leaf are validated breadth-first.
 
   @{
     @defgroup forestmod_hue Quantized hue modality (LINEMOD's colour cue)
+    @defgroup forestmod_pose Pose of a match: initial pose, ICP refinement, depth check, ADD/ADI
+    @defgroup forestmod_dataset BOP dataset reader and results writer
   @}
 */
 
