@@ -6,6 +6,7 @@
 #define OPENCV_FORESTMOD_HPP
 
 #include "opencv2/forestmod/hue.hpp"
+#include "opencv2/forestmod/render.hpp"
 #include "opencv2/forestmod/pose.hpp"
 #include "opencv2/forestmod/dataset.hpp"
 
@@ -18,6 +19,7 @@ background rejector; candidates of a leaf are validated breadth-first.
 
   @{
     @defgroup forestmod_hue Quantized hue modality (LINEMOD's colour cue)
+    @defgroup forestmod_render Meshes, off-screen rendering and template view sampling
     @defgroup forestmod_pose Pose of a match: initial pose, ICP refinement, depth check, ADD/ADI
     @defgroup forestmod_dataset BOP dataset reader and results writer
   @}
