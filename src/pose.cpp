@@ -329,6 +329,55 @@ double boxIoU(const Rect2d& a, const Rect2d& b)
     return uni > 0 ? inter / uni : 0.0;
 }
 
+static void checkRenderer(Renderer& renderer, const Mat& scene, const char* func)
+{
+    if (renderer.size() != scene.size())
+        CV_Error_(Error::StsBadSize,
+                  ("%s: the renderer makes %dx%d images but scene_depth is %dx%d", func,
+                   renderer.size().width, renderer.size().height, scene.cols, scene.rows));
+}
+
+ICPResult refinePose(Renderer& renderer, int handle, InputArray scene_depth, const Matx33d& K,
+                     const Matx33d& R0, const Vec3d& t0, const ICPParams& params, int passes,
+                     int step)
+{
+    Mat scene = getDepth16(scene_depth, "refinePose", "scene_depth");
+    checkRenderer(renderer, scene, "refinePose");
+    CV_CheckGE(passes, 1, "refinePose: passes must be >= 1");
+    CV_CheckGE(step, 1, "refinePose: step must be >= 1");
+    ICPResult res;
+    res.R = R0;
+    res.t = t0;
+    int iterations = 0;
+    Mat depth;
+    for (int pass = 0; pass < passes; ++pass)
+    {
+        renderer.render(handle, res.R, res.t, K, noArray(), depth);
+        std::vector<Point3f> pts = modelPointsFromDepth(depth, K, res.R, res.t, step);
+        if ((int)pts.size() < params.min_correspondences)
+        {
+            if (pass == 0)
+                res.fitness = 0;
+            res.converged = false;
+            break;
+        }
+        res = refineICP(pts, scene, K, res.R, res.t, params);
+        iterations += res.iterations;
+    }
+    res.iterations = iterations;
+    return res;
+}
+
+double depthCheck(Renderer& renderer, int handle, InputArray scene_depth, const Matx33d& K,
+                  const Matx33d& R, const Vec3d& t, double tolerance_mm)
+{
+    Mat scene = getDepth16(scene_depth, "depthCheck", "scene_depth");
+    checkRenderer(renderer, scene, "depthCheck");
+    Mat depth;
+    renderer.render(handle, R, t, K, noArray(), depth);
+    return depthAgreement(depth, scene, tolerance_mm);
+}
+
 bool isCorrect(double error, double diameter, double k_m)
 {
     if (!(diameter > 0))

@@ -10,9 +10,9 @@ namespace {
 
 using namespace pose_test;
 
-static const TriMesh& apeMesh()
+static const Mesh& apeMesh()
 {
-    static TriMesh m = readAsciiPly(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    static Mesh m = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
     return m;
 }
 
@@ -21,11 +21,10 @@ static const double kApeDiameter = 102.099; // lmo_mini/models/models_info.json
 /** A scene around the object at (R, t): the object in front of a tilted table plane, optionally
 with an occluder (a plane 60 mm in front of the object) covering `occluded` of the object's
 pixels from a random side. Returns the noisy depth (CV_16UC1). */
-static Mat makeScene(const TriMesh& mesh, const Matx33d& R, const Vec3d& t, const Matx33d& K,
+static Mat makeScene(MeshRenderer& mr, const Matx33d& R, const Vec3d& t, const Matx33d& K,
                      Size size, double occluded, RNG& rng, double* occluded_share = 0)
 {
-    Mat obj(size, CV_32FC1, Scalar(0));
-    rasterizeDepth(mesh, R, t, K, obj);
+    Mat obj = mr.depth32(R, t, K);
     Mat scene(size, CV_32FC1);
     // table: plane through a point 120 mm behind the object's centre, tilted about x
     const double tilt = rng.uniform(-0.6, 0.6);
@@ -81,43 +80,34 @@ struct IcpTrial
     ICPResult res;
 };
 
-/** One random trial: random pose, start 5 degrees and 10 mm off. ICP as a detector runs it: the
-model points are the visible surface rendered at the starting pose; a second pass re-selects them
-at the refined pose (the visible rim moves with the pose; doc/pose.md). */
-static IcpTrial runIcpTrial(RNG& rng, double occluded, const ICPParams& params = ICPParams())
+/** One random trial: random pose, scene depth rendered from the mesh with sensor-like noise in
+front of a table (and an occluder), start 5 degrees and 10 mm off. ICP as a detector runs it
+(refinePose): the model points are the visible surface rendered at the starting pose; a second
+pass re-selects them at the refined pose (the visible rim moves with the pose; doc/pose.md). */
+static IcpTrial runIcpTrial(MeshRenderer& mr, RNG& rng, double occluded,
+                            const ICPParams& params = ICPParams())
 {
-    const TriMesh& mesh = apeMesh();
     const Matx33d K = lmoK();
     const Size size(640, 480);
     const double z = rng.uniform(500.0, 1000.0);
     const Vec3d t_gt(z * rng.uniform(-0.2, 0.2), z * rng.uniform(-0.15, 0.15), z);
     const Matx33d R_gt = uniformRotation(rng);
-    Mat scene = makeScene(mesh, R_gt, t_gt, K, size, occluded, rng);
+    Mat scene = makeScene(mr, R_gt, t_gt, K, size, occluded, rng);
 
     Vec3d dir(rng.gaussian(1), rng.gaussian(1), rng.gaussian(1));
     dir /= cv::norm(dir);
     const Matx33d R0 = randomRotation(rng, 5.0 * CV_PI / 180) * R_gt;
     const Vec3d t0 = t_gt + 10.0 * dir;
 
+    // refinePose(passes = 2) is these two single passes; run them apart to report both
     IcpTrial tr;
-    Matx33d R = R0;
-    Vec3d t = t0;
-    for (int pass = 0; pass < 2; ++pass)
-    {
-        Mat model_depth = renderDepth16(mesh, R, t, K, size);
-        std::vector<Point3f> pts = modelPointsFromDepth(model_depth, K, R, t, 1);
-        tr.res = refineICP(pts, scene, K, R, t, params);
-        R = tr.res.R;
-        t = tr.res.t;
-        if (pass == 0)
-        {
-            tr.rot_err_deg_1 = rotationErrorDeg(R, R_gt);
-            tr.trans_err_mm_1 = cv::norm(t - t_gt);
-        }
-    }
-    tr.rot_err_deg = rotationErrorDeg(R, R_gt);
-    tr.trans_err_mm = cv::norm(t - t_gt);
-    tr.add_mm = addError(mesh.vertices, R, t, R_gt, t_gt);
+    ICPResult first = refinePose(*mr.renderer, mr.handle, scene, K, R0, t0, params, 1);
+    tr.rot_err_deg_1 = rotationErrorDeg(first.R, R_gt);
+    tr.trans_err_mm_1 = cv::norm(first.t - t_gt);
+    tr.res = refinePose(*mr.renderer, mr.handle, scene, K, first.R, first.t, params, 1);
+    tr.rot_err_deg = rotationErrorDeg(tr.res.R, R_gt);
+    tr.trans_err_mm = cv::norm(tr.res.t - t_gt);
+    tr.add_mm = addError(mr.mesh.vertices, tr.res.R, tr.res.t, R_gt, t_gt);
     return tr;
 }
 
@@ -129,6 +119,7 @@ static double medianOf(std::vector<double> v)
 
 TEST(Forestmod_Pose, icp_converges_on_rendered_ape_with_sensor_noise)
 {
+    MeshRenderer mr(apeMesh(), Size(640, 480));
     RNG rng(20161025);
     const int trials = 50;
     int good = 0;
@@ -136,7 +127,7 @@ TEST(Forestmod_Pose, icp_converges_on_rendered_ape_with_sensor_noise)
     std::vector<double> rot, trans;
     for (int i = 0; i < trials; ++i)
     {
-        IcpTrial tr = runIcpTrial(rng, 0.0);
+        IcpTrial tr = runIcpTrial(mr, rng, 0.0);
         rot.push_back(tr.rot_err_deg);
         trans.push_back(tr.trans_err_mm);
         good_1 += tr.rot_err_deg_1 <= 0.5 && tr.trans_err_mm_1 <= 1.0;
@@ -158,13 +149,14 @@ TEST(Forestmod_Pose, icp_converges_on_rendered_ape_with_sensor_noise)
 
 TEST(Forestmod_Pose, icp_robust_to_30_percent_occlusion)
 {
+    MeshRenderer mr(apeMesh(), Size(640, 480));
     RNG rng(31415);
     const int trials = 50;
     int good = 0;
     std::vector<double> add;
     for (int i = 0; i < trials; ++i)
     {
-        IcpTrial tr = runIcpTrial(rng, 0.3);
+        IcpTrial tr = runIcpTrial(mr, rng, 0.3);
         add.push_back(tr.add_mm);
         if (isCorrect(tr.add_mm, kApeDiameter))
             ++good;
@@ -205,7 +197,7 @@ static double shiftedProjectionError(const std::vector<Point3f>& pts, const Matx
 
 TEST(Forestmod_Pose, initial_pose_moves_template_to_match_location)
 {
-    const TriMesh& mesh = apeMesh();
+    const Mesh& mesh = apeMesh();
     const Matx33d K = lmoK();
     RNG rng(7);
     const Matx33d R_t = uniformRotation(rng);
@@ -268,7 +260,7 @@ TEST(Forestmod_Pose, initial_pose_moves_template_to_match_location)
 
 TEST(Forestmod_Pose, initial_pose_rgbd_distance_from_scene_depth)
 {
-    const TriMesh& mesh = apeMesh();
+    MeshRenderer mr(apeMesh(), Size(640, 480));
     const Matx33d K = lmoK();
     const Size size(640, 480);
     RNG rng(11);
@@ -278,14 +270,13 @@ TEST(Forestmod_Pose, initial_pose_rgbd_distance_from_scene_depth)
         const Vec3d t_t(0, 0, rng.uniform(600.0, 900.0));
         const Vec3d c_t = K * t_t;
         const Point2d template_px(c_t[0] / c_t[2], c_t[1] / c_t[2]);
-        Mat tmpl_depth = renderDepth16(mesh, R_t, t_t, K, size);
+        Mat tmpl_depth = mr.depth16(R_t, t_t, K);
 
         // the object in the scene: moved sideways and 3 % further away (same orientation)
         const Vec3d t_true(rng.uniform(-150.0, 150.0), rng.uniform(-100.0, 100.0), 1.03 * t_t[2]);
         const Vec3d c_s = K * t_true;
         const Point2d scene_px(c_s[0] / c_s[2], c_s[1] / c_s[2]);
-        Mat obj(size, CV_32FC1, Scalar(0));
-        rasterizeDepth(mesh, R_t, t_true, K, obj);
+        Mat obj = mr.depth32(R_t, t_true, K);
         Mat scene32(size, CV_32FC1, Scalar(1500));
         obj.copyTo(scene32, obj > 0);
         Mat scene = sensorNoise(scene32, rng);
@@ -345,12 +336,12 @@ TEST(Forestmod_Pose, scene_depth_from_features_is_robust)
 
 TEST(Forestmod_Pose, model_points_from_depth_reproject_to_their_pixels)
 {
-    const TriMesh& mesh = apeMesh();
+    MeshRenderer mr(apeMesh(), Size(640, 480));
     const Matx33d K = lmoK();
     RNG rng(5);
     const Matx33d R = uniformRotation(rng);
     const Vec3d t(30, -20, 700);
-    Mat d = renderDepth16(mesh, R, t, K, Size(640, 480));
+    Mat d = mr.depth16(R, t, K);
     std::vector<Point3f> pts = modelPointsFromDepth(d, K, R, t, 2);
     ASSERT_GT(pts.size(), 300u);
     // every point is within the model's bounding box, and re-projects onto an object pixel
@@ -375,16 +366,16 @@ TEST(Forestmod_Pose, model_points_from_depth_reproject_to_their_pixels)
 
 TEST(Forestmod_Pose, depth_agreement_counts_object_pixels_within_tolerance)
 {
-    const TriMesh& mesh = apeMesh();
+    MeshRenderer mr(apeMesh(), Size(640, 480));
     const Matx33d K = lmoK();
     const Size size(640, 480);
     RNG rng(17);
     const Matx33d R = uniformRotation(rng);
     const Vec3d t(0, 0, 750);
-    Mat rendered = renderDepth16(mesh, R, t, K, size);
+    Mat rendered = mr.depth16(R, t, K);
     double occluded = 0;
-    Mat clean = makeScene(mesh, R, t, K, size, 0.0, rng);
-    Mat occl = makeScene(mesh, R, t, K, size, 0.3, rng, &occluded);
+    Mat clean = makeScene(mr, R, t, K, size, 0.0, rng);
+    Mat occl = makeScene(mr, R, t, K, size, 0.3, rng, &occluded);
     const double tol = 0.05 * kApeDiameter;
     const double a_clean = depthAgreement(rendered, clean, tol);
     const double a_occl = depthAgreement(rendered, occl, tol);
@@ -393,8 +384,12 @@ TEST(Forestmod_Pose, depth_agreement_counts_object_pixels_within_tolerance)
     EXPECT_GT(a_clean, 0.97);
     EXPECT_NEAR(a_occl, 1.0 - occluded, 0.05);
     // a hypothesis 3 cm too far: almost nothing agrees
-    Mat far = renderDepth16(mesh, R, t + Vec3d(0, 0, 30), K, size);
+    Mat far = mr.depth16(R, t + Vec3d(0, 0, 30), K);
     EXPECT_LT(depthAgreement(far, clean, tol), 0.1);
+    EXPECT_LT(depthCheck(*mr.renderer, mr.handle, clean, K, R, t + Vec3d(0, 0, 30), tol), 0.1);
+    EXPECT_DOUBLE_EQ(depthCheck(*mr.renderer, mr.handle, occl, K, R, t, tol), a_occl);
+    EXPECT_THROW(depthCheck(*mr.renderer, mr.handle, Mat(240, 320, CV_16UC1, Scalar(1)), K, R, t,
+                            tol), cv::Exception);
     // no scene measurement at all: 0
     EXPECT_EQ(depthAgreement(rendered, Mat(size, CV_16UC1, Scalar(0)), tol), 0.0);
     EXPECT_THROW(depthAgreement(rendered, Mat(240, 320, CV_16UC1, Scalar(1)), tol), cv::Exception);
@@ -406,7 +401,7 @@ TEST(Forestmod_Pose, depth_agreement_counts_object_pixels_within_tolerance)
 
 TEST(Forestmod_Pose, add_of_a_pure_translation_is_its_length)
 {
-    const TriMesh& mesh = apeMesh();
+    const Mesh& mesh = apeMesh();
     RNG rng(1);
     const Matx33d R = uniformRotation(rng);
     const Vec3d t(10, 20, 800), v(3, -4, 12);
@@ -475,7 +470,7 @@ TEST(Forestmod_Pose, adi_is_near_zero_for_eggbox_turned_by_its_symmetry)
     const ModelInfo egg = ds.model(10);
     ASSERT_TRUE(egg.symmetric);
     ASSERT_FALSE(egg.symmetries_discrete.empty());
-    const TriMesh mesh = readAsciiPly(egg.mesh_path);
+    const Mesh mesh = Mesh::load(egg.mesh_path);
     const Matx44d S = egg.symmetries_discrete[0];
     const Matx33d Rs(S(0, 0), S(0, 1), S(0, 2), S(1, 0), S(1, 1), S(1, 2), S(2, 0), S(2, 1), S(2, 2));
     const Vec3d ts(S(0, 3), S(1, 3), S(2, 3));
@@ -579,6 +574,40 @@ TEST(Forestmod_Pose, initial_pose_rejects_bad_input)
     initialPose(I, Vec3d(5, 6, 500), K, Point2d(100, 100), K, Point2d(100, 100), 0, R, t);
     EXPECT_LT(cv::norm(Mat(R), Mat(I)), 1e-12);
     EXPECT_LT(cv::norm(t - Vec3d(5, 6, 500)), 1e-9);
+}
+
+} // namespace
+} // namespace opencv_test
+
+namespace opencv_test {
+namespace {
+using namespace pose_test;
+
+// Not a test: the figures of doc/pose.md over 200 trials (run with --gtest_also_run_disabled_tests
+// --gtest_filter=Forestmod_Pose.DISABLED_icp_statistics).
+TEST(Forestmod_Pose, DISABLED_icp_statistics)
+{
+    MeshRenderer mr(apeMesh(), Size(640, 480));
+    for (int occluded = 0; occluded < 2; ++occluded)
+    {
+        RNG rng(occluded ? 2718 : 1414);
+        const int trials = 200;
+        int good = 0, good_1 = 0, add_ok = 0;
+        std::vector<double> rot, trans, add;
+        for (int i = 0; i < trials; ++i)
+        {
+            IcpTrial tr = runIcpTrial(mr, rng, occluded ? 0.3 : 0.0);
+            rot.push_back(tr.rot_err_deg);
+            trans.push_back(tr.trans_err_mm);
+            add.push_back(tr.add_mm);
+            good += tr.rot_err_deg <= 0.5 && tr.trans_err_mm <= 1.0;
+            good_1 += tr.rot_err_deg_1 <= 0.5 && tr.trans_err_mm_1 <= 1.0;
+            add_ok += isCorrect(tr.add_mm, kApeDiameter);
+        }
+        printf("%s: %d/%d within 1 mm and 0.5 deg (first pass alone %d), ADD < 0.1 d: %d; median "
+               "%.3f deg, %.3f mm, ADD %.3f mm\n", occluded ? "30 % occluded" : "no clutter", good,
+               trials, good_1, add_ok, medianOf(rot), medianOf(trans), medianOf(add));
+    }
 }
 
 } // namespace
