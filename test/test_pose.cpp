@@ -583,20 +583,19 @@ namespace opencv_test {
 namespace {
 using namespace pose_test;
 
-// Not a test: the figures of doc/pose.md over 200 trials (run with --gtest_also_run_disabled_tests
-// --gtest_filter=Forestmod_Pose.DISABLED_icp_statistics).
-TEST(Forestmod_Pose, DISABLED_icp_statistics)
+// Not a test: the figures of doc/pose.md (run with --gtest_also_run_disabled_tests
+// --gtest_filter='Forestmod_Pose.DISABLED_icp_*'): 200 trials of each test's scenario with the
+// defaults, and an ablation of the ICP choices on 100 + 100 trials.
+static void icpStatistics(MeshRenderer& mr, const ICPParams& p, int trials, const char* name)
 {
-    MeshRenderer mr(apeMesh(), Size(640, 480));
     for (int occluded = 0; occluded < 2; ++occluded)
     {
         RNG rng(occluded ? 2718 : 1414);
-        const int trials = 200;
         int good = 0, good_1 = 0, add_ok = 0;
         std::vector<double> rot, trans, add;
         for (int i = 0; i < trials; ++i)
         {
-            IcpTrial tr = runIcpTrial(mr, rng, occluded ? 0.3 : 0.0);
+            IcpTrial tr = runIcpTrial(mr, rng, occluded ? 0.3 : 0.0, p);
             rot.push_back(tr.rot_err_deg);
             trans.push_back(tr.trans_err_mm);
             add.push_back(tr.add_mm);
@@ -604,10 +603,39 @@ TEST(Forestmod_Pose, DISABLED_icp_statistics)
             good_1 += tr.rot_err_deg_1 <= 0.5 && tr.trans_err_mm_1 <= 1.0;
             add_ok += isCorrect(tr.add_mm, kApeDiameter);
         }
-        printf("%s: %d/%d within 1 mm and 0.5 deg (first pass alone %d), ADD < 0.1 d: %d; median "
-               "%.3f deg, %.3f mm, ADD %.3f mm\n", occluded ? "30 % occluded" : "no clutter", good,
-               trials, good_1, add_ok, medianOf(rot), medianOf(trans), medianOf(add));
+        printf("| %s | %s | %d/%d | %d/%d | %d/%d | %.3f | %.3f | %.3f |\n", name,
+               occluded ? "30 % occluded" : "no clutter", good, trials, good_1, trials, add_ok,
+               trials, medianOf(rot), medianOf(trans), medianOf(add));
     }
+}
+
+TEST(Forestmod_Pose, DISABLED_icp_statistics)
+{
+    MeshRenderer mr(apeMesh(), Size(640, 480));
+    icpStatistics(mr, ICPParams(), 200, "defaults");
+}
+
+TEST(Forestmod_Pose, DISABLED_icp_ablation)
+{
+    MeshRenderer mr(apeMesh(), Size(640, 480));
+    const int n = 100;
+    ICPParams p;
+    icpStatistics(mr, p, n, "defaults");
+    p = ICPParams();
+    p.search_radius = 2;
+    icpStatistics(mr, p, n, "search_radius 2");
+    p = ICPParams();
+    p.max_rotation_step = 1.0;
+    icpStatistics(mr, p, n, "no rotation trust region");
+    p = ICPParams();
+    p.tukey_c_coarse = p.tukey_c;
+    icpStatistics(mr, p, n, "no coarse Tukey phase");
+    p = ICPParams();
+    p.min_ray_cosine = 1.0;
+    icpStatistics(mr, p, n, "unweighted (min_ray_cosine 1)");
+    p = ICPParams();
+    p.max_points = 1000;
+    icpStatistics(mr, p, n, "max_points 1000");
 }
 
 } // namespace

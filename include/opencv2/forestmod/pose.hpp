@@ -176,14 +176,20 @@ CV_EXPORTS std::vector<Point3f> modelPointsFromDepth(InputArray depth, const Mat
 
 Model points (model coordinates; the visible surface, e.g. from modelPointsFromDepth(), or any
 sampling of the mesh surface facing the camera) are moved by the current pose, projected into
-scene_depth with K and associated with the closest back-projected scene point in a
-(2 search_radius + 1)^2 window (projective association with a local search). Each pair gives a
-point-to-plane residual along the scene normal (PCA over the normal window, sensor noise
-averaged). Clutter and occluders are pushed out twice: by a distance gate that starts at
-max_correspondence_distance and shrinks to gate_sigma_factor robust standard deviations of the
-residuals (never below min_correspondence_distance), and by Tukey biweights on the residuals
-(iteratively reweighted least squares). The 6x6 normal equations of the linearised problem are
-solved with Eigen (LDLT); the update is applied as an exact rotation (Rodrigues).
+scene_depth with K and associated with the scene point at that pixel (projective association,
+KinectFusion; search_radius > 0 searches a window for the closest point). Each pair gives a
+point-to-plane residual along the scene normal (PCA over the normal window). Robustness to
+clutter and occlusion:
+- a distance gate that starts at max_correspondence_distance and shrinks to gate_sigma_factor
+  robust standard deviations of the 3D distances (never below min_correspondence_distance);
+- Tukey biweights on the residuals (iteratively reweighted least squares), scale from the median
+  absolute residual; a tighter constant (tukey_c_coarse) while the gate is still shrinking, so
+  that a coherent group of outliers (an occluder in front of the object) cannot pull the pose;
+- a trust region on the rotation (max_rotation_step), the translation re-solved for it;
+- noise-aware weights (min_ray_cosine): sensor noise is along the viewing ray.
+The 6x6 normal equations, linearised about the centroid of the moved points, are solved with
+Eigen (LDLT); the update is applied as an exact rotation (Rodrigues). R0 may deviate slightly
+from a rotation (as LM-O's ground truth does, ~1e-2): it is projected onto the closest rotation.
 
 @param model_points  model points, mm, model coordinates (at least params.min_correspondences).
 @param scene_depth   CV_16UC1 scene depth in mm (0 = invalid).
