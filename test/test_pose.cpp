@@ -18,9 +18,10 @@ static const Mesh& apeMesh()
 
 static const double kApeDiameter = 102.099; // lmo_mini/models/models_info.json
 
-/** A scene around the object at (R, t): the object in front of a tilted table plane, optionally
-with an occluder (a plane 60 mm in front of the object) covering `occluded` of the object's
-pixels from a random side. Returns the noisy depth (CV_16UC1). */
+/** A scene around the object at (R, t): the object in front of a tilted table plane; with
+occluded > 0 also clutter (boxes around the object, partly in front of it) and an occluder (a
+plane 60 mm in front of the object's centre) covering `occluded` of the object's pixels from a
+random side. Returns the noisy depth (CV_16UC1). */
 static Mat makeScene(MeshRenderer& mr, const Matx33d& R, const Vec3d& t, const Matx33d& K,
                      Size size, double occluded, RNG& rng, double* occluded_share = 0)
 {
@@ -45,6 +46,29 @@ static Mat makeScene(MeshRenderer& mr, const Matx33d& R, const Vec3d& t, const M
     double share = 0;
     if (occluded > 0)
     {
+        // clutter around the object: 8 boxes on the table near it, at depths from 40 mm in
+        // front of the object's centre to the table, seen where the object does not hide them
+        const Vec3d c = K * t;
+        const Point2d centre(c[0] / c[2], c[1] / c[2]);
+        const double half = 0.6 * K(0, 0) * 102.0 / t[2]; // about the object's size in pixels
+        for (int b = 0; b < 8; ++b)
+        {
+            const Point2d p = centre + Point2d(rng.uniform(-2.0, 2.0) * half,
+                                               rng.uniform(-2.0, 2.0) * half);
+            const double w = rng.uniform(0.3, 1.0) * half, h = rng.uniform(0.3, 1.0) * half;
+            const float zb = (float)(t[2] + rng.uniform(-40.0, 120.0));
+            const Rect box = Rect(Point(cvRound(p.x - w), cvRound(p.y - h)),
+                                  Point(cvRound(p.x + w), cvRound(p.y + h)))
+                             & Rect(0, 0, size.width, size.height);
+            for (int y = box.y; y < box.y + box.height; ++y)
+                for (int x = box.x; x < box.x + box.width; ++x)
+                {
+                    float& z = scene.at<float>(y, x);
+                    if (zb < z && !(obj.at<float>(y, x) > 0 && obj.at<float>(y, x) < zb))
+                        z = zb;
+                }
+        }
+
         // half-plane occluder: pixels beyond a line, placed so that `occluded` of the object is
         // behind it
         const double a = rng.uniform(0.0, 2 * CV_PI);
@@ -58,14 +82,15 @@ static Mat makeScene(MeshRenderer& mr, const Matx33d& R, const Vec3d& t, const M
         std::sort(proj.begin(), proj.end());
         const double thr = proj[(size_t)((1 - occluded) * (proj.size() - 1))];
         const float zocc = (float)(t[2] - 60);
-        int hidden = 0;
         for (int y = 0; y < size.height; ++y)
             for (int x = 0; x < size.width; ++x)
                 if (dir[0] * x + dir[1] * y > thr)
-                {
-                    hidden += obj.at<float>(y, x) > 0;
                     scene.at<float>(y, x) = zocc + (float)(0.05 * (x - size.width / 2));
-                }
+        // the share of the object hidden by the occluder and the clutter
+        int hidden = 0;
+        for (int y = 0; y < size.height; ++y)
+            for (int x = 0; x < size.width; ++x)
+                hidden += obj.at<float>(y, x) > 0 && scene.at<float>(y, x) < obj.at<float>(y, x) - 1;
         share = (double)hidden / (double)proj.size();
     }
     if (occluded_share)
