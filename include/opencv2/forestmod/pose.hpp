@@ -27,9 +27,9 @@ class Renderer; // opencv2/forestmod/render.hpp
 
 /** @brief Parameters of refineICP(). FileStorage keys are the field names.
 
-The defaults are tuned on LM-O objects (diameter 100-260 mm) at 0.4-1.5 m with Kinect-like depth
-and starting poses within about 10 degrees / 20 mm (the precision of a template match); see
-doc/pose.md for the measurements behind them.
+The defaults were chosen on the LM-O ape (diameter 102 mm) at 0.5-1 m with Kinect-like depth,
+starting 5 degrees / 10 mm off (the precision of a template match); see doc/pose.md for the
+measurements behind them (ablation of each choice).
 */
 struct CV_EXPORTS_W_SIMPLE ICPParams
 {
@@ -42,11 +42,13 @@ struct CV_EXPORTS_W_SIMPLE ICPParams
     match is off by up to ~10 mm and ~10 degrees (about 0.1 of a diameter at the object's rim). */
     CV_PROP_RW double max_correspondence_distance;
     /** Smallest correspondence gate (mm). After each iteration the gate shrinks to
-    `gate_sigma_factor` robust standard deviations of the current residuals, but not below this
-    value (sensor noise). Default 5 mm (Kinect depth noise is 1.5-4 mm at 0.7-1.5 m). */
+    `gate_sigma_factor` robust standard deviations of the current 3D distances, but not below
+    this value (sensor noise). Default 5 mm (Kinect depth noise is 1.5-4 mm at 0.7-1.5 m). Also
+    sets the floor of the residuals' robust scale, min_correspondence_distance /
+    gate_sigma_factor. */
     CV_PROP_RW double min_correspondence_distance;
-    /** Gate (in robust standard deviations of the point-to-plane residuals, sigma = 1.4826 MAD)
-    used to shrink the correspondence gate. Default 3. */
+    /** The correspondence gate shrinks to this many robust standard deviations
+    (1.4826 x median) of the 3D distances between paired points. Default 3. */
     CV_PROP_RW double gate_sigma_factor;
     /** Tukey biweight constant, in robust standard deviations of the point-to-plane residuals:
     residuals beyond tukey_c * sigma get weight 0. Default 4.685 (95 % Gaussian efficiency). */
@@ -81,7 +83,7 @@ struct CV_EXPORTS_W_SIMPLE ICPParams
     within this distance (mm). Default 5 mm: a little above sensor noise. */
     CV_PROP_RW double inlier_distance;
     /** Trust region: an iteration rotates by at most this (radians); the translation is then
-    re-solved for the shortened rotation. Default 0.05 (about 3 degrees): the rotation of a
+    re-solved for the shortened rotation. Default 0.02 (about 1.1 degrees): the rotation of a
     roundish object is weakly constrained and a full Gauss-Newton step taken while outliers are
     still in can swing it far away. */
     CV_PROP_RW double max_rotation_step;
