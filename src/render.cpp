@@ -12,6 +12,18 @@
 namespace cv {
 namespace forestmod {
 
+ViewPose::ViewPose()
+    : R(Matx33d::eye()), t(0, 0, 0), view_index(-1), radius_index(-1), inplane_index(-1),
+      radius(0), elevation(0), azimuth(0), inplane(0)
+{
+}
+
+TemplateView::TemplateView()
+    : R(Matx33d::eye()), t(0, 0, 0), K(Matx33d::eye()), view_id(-1), view_index(-1),
+      radius_index(-1), inplane_index(-1), radius(0), elevation(0), azimuth(0), inplane(0)
+{
+}
+
 // ---- ViewSampler::Params --------------------------------------------------------------------------
 
 ViewSampler::Params::Params()

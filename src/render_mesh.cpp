@@ -151,6 +151,34 @@ static uchar toByte(float c)
     return saturate_cast<uchar>(cvRound(255.0 * std::min(1.f, std::max(0.f, c))));
 }
 
+// Faces straight from the reader: every face has indices, all inside the mesh's vertices.
+static void checkRawScene(const aiScene* scene, const String& path)
+{
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+    {
+        const aiMesh* am = scene->mMeshes[m];
+        if (!am || (am->mNumFaces > 0 && (!am->mFaces || !am->mVertices)))
+            CV_Error_(Error::StsParseError,
+                      ("Mesh::load: '%s' is corrupt: mesh %u has faces but no vertex data",
+                       path.c_str(), m));
+        for (unsigned f = 0; f < am->mNumFaces; ++f)
+        {
+            const aiFace& face = am->mFaces[f];
+            if (face.mNumIndices == 0 || !face.mIndices)
+                CV_Error_(Error::StsParseError,
+                          ("Mesh::load: '%s' is corrupt or truncated: face %u of mesh %u has no "
+                           "vertex indices",
+                           path.c_str(), f, m));
+            for (unsigned k = 0; k < face.mNumIndices; ++k)
+                if (face.mIndices[k] >= am->mNumVertices)
+                    CV_Error_(Error::StsParseError,
+                              ("Mesh::load: '%s' is corrupt: face %u of mesh %u refers to vertex "
+                               "%u of %u",
+                               path.c_str(), f, m, face.mIndices[k], am->mNumVertices));
+        }
+    }
+}
+
 Mesh Mesh::load(const String& path, double scale)
 {
     if (!(scale > 0) || !std::isfinite(scale))
@@ -171,7 +199,11 @@ Mesh Mesh::load(const String& path, double scale)
     importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices
                            | aiProcess_PreTransformVertices | aiProcess_SortByPType;
-    const aiScene* scene = importer.ReadFile(path.c_str(), flags);
+    // Two steps: read without post-processing, check the raw faces, then post-process.
+    // Debian's libassimp is built with its internal assertions on, and some readers (PLY) turn a
+    // truncated file into faces without indices, on which aiProcess_Triangulate aborts the
+    // process instead of reporting an error.
+    const aiScene* scene = importer.ReadFile(path.c_str(), 0);
     if (!scene)
         CV_Error_(Error::StsParseError, ("Mesh::load: assimp cannot read '%s': %s", path.c_str(),
                                          importer.GetErrorString()));
@@ -179,9 +211,15 @@ Mesh Mesh::load(const String& path, double scale)
         CV_Error_(Error::StsParseError,
                   ("Mesh::load: assimp read '%s' only partly (incomplete scene): %s", path.c_str(),
                    importer.GetErrorString()));
+    checkRawScene(scene, path);
+    scene = importer.ApplyPostProcessing(flags);
+    if (!scene)
+        CV_Error_(Error::StsParseError, ("Mesh::load: assimp cannot process '%s': %s",
+                                         path.c_str(), importer.GetErrorString()));
 
     Mesh mesh;
     bool all_normals = true, any_colors = false;
+    size_t num_triangles = 0, collapsed = 0, repeated = 0;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m)
     {
         const aiMesh* am = scene->mMeshes[m];
@@ -225,10 +263,35 @@ Mesh Mesh::load(const String& path, double scale)
             const aiFace& face = am->mFaces[f];
             if (face.mNumIndices != 3)
                 continue;
-            mesh.faces.push_back(Vec3i(base + (int)face.mIndices[0], base + (int)face.mIndices[1],
-                                       base + (int)face.mIndices[2]));
+            ++num_triangles;
+            const Vec3i tri(base + (int)face.mIndices[0], base + (int)face.mIndices[1],
+                            base + (int)face.mIndices[2]);
+            if (tri[0] == tri[1] && tri[1] == tri[2])
+            {
+                ++collapsed; // a "triangle" on one vertex: dropped (or the sign of a bad file)
+                continue;
+            }
+            if (!mesh.faces.empty() && mesh.faces.back() == tri)
+                ++repeated;
+            mesh.faces.push_back(tri);
         }
     }
+    // assimp's readers are lenient with truncated files (seen with PLY 5.2): missing vertices
+    // become zeros, so that many faces collapse onto one vertex after joining identical
+    // vertices, and missing faces repeat the last face read. Neither happens in a sane mesh.
+    size_t trailing = 0; // faces at the end equal to their predecessor
+    for (size_t f = mesh.faces.size(); f >= 2 && mesh.faces[f - 1] == mesh.faces[f - 2]; --f)
+        ++trailing;
+    if (trailing > 0 || (repeated > 0 && repeated * 100 > num_triangles))
+        CV_Error_(Error::StsParseError,
+                  ("Mesh::load: '%s' looks corrupt or truncated: %d of %d triangles repeat the "
+                   "previous one (%d at the end)",
+                   path.c_str(), (int)repeated, (int)num_triangles, (int)trailing));
+    if (collapsed > 0 && collapsed * 100 > num_triangles)
+        CV_Error_(Error::StsParseError,
+                  ("Mesh::load: '%s' looks corrupt or truncated: %d of %d triangles collapse onto a "
+                   "single vertex",
+                   path.c_str(), (int)collapsed, (int)num_triangles));
     if (mesh.faces.empty())
         CV_Error_(Error::StsParseError,
                   ("Mesh::load: '%s' has no triangles (%u meshes read by assimp)", path.c_str(),

@@ -403,8 +403,11 @@ void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx3
                 vmin = std::min(vmin, v);
                 vmax = std::max(vmax, v);
             }
-        const double lo_u = std::max(-1.0, std::floor(umin) - 1), hi_u = std::min(W + 1.0, std::ceil(umax) + 2);
-        const double lo_v = std::max(-1.0, std::floor(vmin) - 1), hi_v = std::min(H + 1.0, std::ceil(vmax) + 2);
+        // clamped on both sides before the int conversion (far off-screen boxes)
+        const double lo_u = std::min(W + 1.0, std::max(-1.0, std::floor(umin) - 1));
+        const double hi_u = std::max(-1.0, std::min(W + 1.0, std::ceil(umax) + 2));
+        const double lo_v = std::min(H + 1.0, std::max(-1.0, std::floor(vmin) - 1));
+        const double hi_v = std::max(-1.0, std::min(H + 1.0, std::ceil(vmax) + 2));
         roi = Rect((int)lo_u, (int)lo_v, (int)std::max(0.0, hi_u - lo_u),
                    (int)std::max(0.0, hi_v - lo_v)) & Rect(0, 0, W, H);
     }

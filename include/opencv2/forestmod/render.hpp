@@ -129,6 +129,7 @@ public:
 /** @brief One viewpoint of a ViewSampler: a pose and where it comes from. */
 struct CV_EXPORTS_W_SIMPLE ViewPose
 {
+    CV_WRAP ViewPose();
     CV_PROP_RW Matx33d R;       //!< model -> camera rotation
     CV_PROP_RW Vec3d t;         //!< model -> camera translation (mm)
     CV_PROP_RW int view_index;  //!< index into ViewSampler::viewpoints()
@@ -220,6 +221,7 @@ struct CV_EXPORTS_W_SIMPLE ViewSampler
 /** @brief A rendered, labelled template: images of one view and its pose. */
 struct CV_EXPORTS_W_SIMPLE TemplateView
 {
+    CV_WRAP TemplateView(); //!< identity pose, empty images, indices -1
     CV_PROP_RW Mat color;   //!< CV_8UC3 BGR, full image size
     CV_PROP_RW Mat depth;   //!< CV_16UC1 mm, 0 = background
     CV_PROP_RW Mat mask;    //!< CV_8UC1 255 on the object
