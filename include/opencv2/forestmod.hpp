@@ -10,6 +10,8 @@
 #include "opencv2/forestmod/synthetic.hpp"
 #include "opencv2/forestmod/forest.hpp"
 #include "opencv2/forestmod/detector.hpp"
+#include "opencv2/forestmod/pose.hpp"
+#include "opencv2/forestmod/dataset.hpp"
 
 /** @defgroup forestmod Fuzzy template forest for real-time 6-DoF pose estimation
 
@@ -23,6 +25,8 @@ background rejector; candidates of a leaf are validated breadth-first.
     @defgroup forestmod_forest Fuzzy template forest with preemptive background rejectors
     @defgroup forestmod_render Meshes, off-screen rendering and template view sampling
     @defgroup forestmod_detector Detector: drop-in cv::linemod::Detector with forest search
+    @defgroup forestmod_pose Pose of a match: initial pose, ICP refinement, depth check, ADD/ADI
+    @defgroup forestmod_dataset BOP dataset reader and results writer
   @}
 */
 

@@ -1,0 +1,448 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Robust point-to-plane ICP of model points against a depth image (pose refinement of a match).
+// Projective association with a local search, scene normals by PCA, a shrinking distance gate and
+// Tukey biweights (IRLS); 6x6 normal equations solved with Eigen. See doc/pose.md.
+
+#include "precomp.hpp"
+#include "opencv2/calib3d.hpp"
+
+#ifdef HAVE_FORESTMOD_EIGEN
+#include <Eigen/Core>
+#include <Eigen/Dense>
+#endif
+
+namespace cv {
+namespace forestmod {
+
+ICPParams::ICPParams()
+    : max_iterations(30), max_correspondence_distance(30.0), min_correspondence_distance(5.0),
+      gate_sigma_factor(3.0), tukey_c(4.685), tukey_c_coarse(2.5), search_radius(0), normal_radius(3),
+      depth_discontinuity(15.0), rotation_epsilon(1e-4), translation_epsilon(0.01),
+      max_points(4000), min_correspondences(20), inlier_distance(5.0),
+      max_rotation_step(0.02), min_ray_cosine(0.5)
+{
+}
+
+void ICPParams::read(const FileNode& fn)
+{
+#define FORESTMOD_READ_FIELD(name, type) name = fn[#name].empty() ? name : (type)fn[#name]
+    FORESTMOD_READ_FIELD(max_iterations, int);
+    FORESTMOD_READ_FIELD(max_correspondence_distance, double);
+    FORESTMOD_READ_FIELD(min_correspondence_distance, double);
+    FORESTMOD_READ_FIELD(gate_sigma_factor, double);
+    FORESTMOD_READ_FIELD(tukey_c, double);
+    FORESTMOD_READ_FIELD(tukey_c_coarse, double);
+    FORESTMOD_READ_FIELD(search_radius, int);
+    FORESTMOD_READ_FIELD(normal_radius, int);
+    FORESTMOD_READ_FIELD(depth_discontinuity, double);
+    FORESTMOD_READ_FIELD(rotation_epsilon, double);
+    FORESTMOD_READ_FIELD(translation_epsilon, double);
+    FORESTMOD_READ_FIELD(max_points, int);
+    FORESTMOD_READ_FIELD(min_correspondences, int);
+    FORESTMOD_READ_FIELD(inlier_distance, double);
+    FORESTMOD_READ_FIELD(max_rotation_step, double);
+    FORESTMOD_READ_FIELD(min_ray_cosine, double);
+#undef FORESTMOD_READ_FIELD
+}
+
+void ICPParams::write(FileStorage& fs) const
+{
+    fs << "max_iterations" << max_iterations;
+    fs << "max_correspondence_distance" << max_correspondence_distance;
+    fs << "min_correspondence_distance" << min_correspondence_distance;
+    fs << "gate_sigma_factor" << gate_sigma_factor;
+    fs << "tukey_c" << tukey_c;
+    fs << "tukey_c_coarse" << tukey_c_coarse;
+    fs << "search_radius" << search_radius;
+    fs << "normal_radius" << normal_radius;
+    fs << "depth_discontinuity" << depth_discontinuity;
+    fs << "rotation_epsilon" << rotation_epsilon;
+    fs << "translation_epsilon" << translation_epsilon;
+    fs << "max_points" << max_points;
+    fs << "min_correspondences" << min_correspondences;
+    fs << "inlier_distance" << inlier_distance;
+    fs << "max_rotation_step" << max_rotation_step;
+    fs << "min_ray_cosine" << min_ray_cosine;
+}
+
+ICPResult::ICPResult()
+    : R(Matx33d::eye()), t(0, 0, 0), fitness(0), inlier_rmse(0), iterations(0), converged(false)
+{
+}
+
+static void checkParams(const ICPParams& p)
+{
+    CV_CheckGE(p.max_iterations, 1, "refineICP: max_iterations must be >= 1");
+    CV_Check(p.max_correspondence_distance, p.max_correspondence_distance > 0,
+             "refineICP: max_correspondence_distance must be > 0");
+    CV_Check(p.min_correspondence_distance,
+             p.min_correspondence_distance > 0
+                 && p.min_correspondence_distance <= p.max_correspondence_distance,
+             "refineICP: min_correspondence_distance must be in (0, max_correspondence_distance]");
+    CV_Check(p.gate_sigma_factor, p.gate_sigma_factor > 0,
+             "refineICP: gate_sigma_factor must be > 0");
+    CV_Check(p.tukey_c, p.tukey_c > 0, "refineICP: tukey_c must be > 0");
+    CV_Check(p.tukey_c_coarse, p.tukey_c_coarse > 0, "refineICP: tukey_c_coarse must be > 0");
+    CV_CheckGE(p.search_radius, 0, "refineICP: search_radius must be >= 0");
+    CV_CheckGE(p.normal_radius, 1, "refineICP: normal_radius must be >= 1");
+    CV_Check(p.depth_discontinuity, p.depth_discontinuity > 0,
+             "refineICP: depth_discontinuity must be > 0");
+    CV_Check(p.rotation_epsilon, p.rotation_epsilon >= 0,
+             "refineICP: rotation_epsilon must be >= 0");
+    CV_Check(p.translation_epsilon, p.translation_epsilon >= 0,
+             "refineICP: translation_epsilon must be >= 0");
+    CV_CheckGE(p.min_correspondences, 6, "refineICP: min_correspondences must be >= 6");
+    CV_Check(p.inlier_distance, p.inlier_distance > 0, "refineICP: inlier_distance must be > 0");
+    CV_Check(p.max_rotation_step, p.max_rotation_step > 0,
+             "refineICP: max_rotation_step must be > 0");
+    CV_Check(p.min_ray_cosine, p.min_ray_cosine > 0 && p.min_ray_cosine <= 1,
+             "refineICP: min_ray_cosine must be in (0, 1]");
+}
+
+#ifdef HAVE_FORESTMOD_EIGEN
+
+namespace {
+
+/** The scene depth image seen as a point cloud, with normals computed on demand and cached. */
+class SceneCloud
+{
+public:
+    SceneCloud(const Mat& depth, const Matx33d& K, const ICPParams& p)
+        : depth_(depth), fx_(K(0, 0)), fy_(K(1, 1)), cx_(K(0, 2)), cy_(K(1, 2)), skew_(K(0, 1)),
+          normal_radius_(p.normal_radius), discontinuity_(p.depth_discontinuity)
+    {
+        state_.create(depth.size(), CV_8UC1);
+        state_.setTo(Scalar::all(0));
+        normals_.create(depth.size(), CV_32FC3);
+    }
+
+    int rows() const { return depth_.rows; }
+    int cols() const { return depth_.cols; }
+
+    /** Back-projection of pixel (x, y) with depth z (mm). */
+    Vec3d point(int x, int y, double z) const
+    {
+        const double yn = (y - cy_) / fy_;
+        const double xn = (x - cx_ - skew_ * yn) / fx_;
+        return Vec3d(xn * z, yn * z, z);
+    }
+
+    ushort depth(int x, int y) const { return depth_.at<ushort>(y, x); }
+
+    bool project(const Vec3d& q, Point& px) const
+    {
+        if (q[2] <= 1e-6)
+            return false;
+        const double u = fx_ * q[0] / q[2] + skew_ * q[1] / q[2] + cx_;
+        const double v = fy_ * q[1] / q[2] + cy_;
+        if (!(u > -0.5 && v > -0.5 && u < depth_.cols - 0.5 && v < depth_.rows - 0.5))
+            return false;
+        px = Point(cvRound(u), cvRound(v));
+        return true;
+    }
+
+    /** Unit normal at pixel (x, y) facing the camera; false when it cannot be estimated. */
+    bool normal(int x, int y, Vec3f& n)
+    {
+        uchar& st = state_.at<uchar>(y, x);
+        if (st == 0)
+            st = computeNormal(x, y, normals_.at<Vec3f>(y, x)) ? 1 : 2;
+        n = normals_.at<Vec3f>(y, x);
+        return st == 1;
+    }
+
+private:
+    bool computeNormal(int x, int y, Vec3f& n) const
+    {
+        const double zc = depth_.at<ushort>(y, x);
+        if (zc <= 0)
+            return false;
+        const int r = normal_radius_;
+        Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+        Eigen::Vector3d m = Eigen::Vector3d::Zero();
+        int cnt = 0;
+        for (int yy = std::max(0, y - r); yy <= std::min(depth_.rows - 1, y + r); ++yy)
+        {
+            const ushort* row = depth_.ptr<ushort>(yy);
+            for (int xx = std::max(0, x - r); xx <= std::min(depth_.cols - 1, x + r); ++xx)
+            {
+                const double z = row[xx];
+                if (z <= 0 || std::abs(z - zc) > discontinuity_)
+                    continue;
+                const Vec3d p = point(xx, yy, z);
+                const Eigen::Vector3d e(p[0], p[1], p[2]);
+                m += e;
+                S += e * e.transpose();
+                ++cnt;
+            }
+        }
+        const int side = 2 * r + 1;
+        if (cnt < std::max(5, side * side / 3))
+            return false;
+        m /= cnt;
+        const Eigen::Matrix3d C = S / cnt - m * m.transpose();
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+        es.computeDirect(C);
+        Eigen::Vector3d e = es.eigenvectors().col(0); // smallest eigenvalue first
+        if (!(e.allFinite()) || e.norm() < 0.5)
+            return false;
+        e.normalize();
+        if (e.dot(m) > 0) // face the camera
+            e = -e;
+        n = Vec3f((float)e[0], (float)e[1], (float)e[2]);
+        return true;
+    }
+
+    const Mat& depth_;
+    double fx_, fy_, cx_, cy_, skew_;
+    int normal_radius_;
+    double discontinuity_;
+    Mat state_;   // 0 unknown, 1 normal valid, 2 no normal
+    Mat normals_; // CV_32FC3
+};
+
+struct Correspondence
+{
+    Vec3d q;  // model point moved by the current pose (camera frame)
+    Vec3d s;  // scene point
+    Vec3d n;  // scene normal
+    double r; // point-to-plane residual n.(q - s)
+    double d; // 3D distance |q - s|
+    double g; // |n . ray|: how much of the sensor's (axial) noise reaches r
+};
+
+/** Closest scene point to q in the (2 radius + 1)^2 window around its projection. */
+static bool associate(const SceneCloud& cloud, const Vec3d& q, int radius, double gate,
+                      Point& best_px, Vec3d& best_s, double& best_d2)
+{
+    Point px;
+    if (!cloud.project(q, px))
+        return false;
+    best_d2 = gate * gate;
+    bool found = false;
+    for (int y = std::max(0, px.y - radius); y <= std::min(cloud.rows() - 1, px.y + radius); ++y)
+        for (int x = std::max(0, px.x - radius); x <= std::min(cloud.cols() - 1, px.x + radius);
+             ++x)
+        {
+            const ushort z = cloud.depth(x, y);
+            if (!z)
+                continue;
+            const Vec3d s = cloud.point(x, y, z);
+            const Vec3d d = s - q;
+            const double d2 = d.dot(d);
+            if (d2 <= best_d2)
+            {
+                best_d2 = d2;
+                best_s = s;
+                best_px = Point(x, y);
+                found = true;
+            }
+        }
+    return found;
+}
+
+static double median(std::vector<double>& v)
+{
+    CV_DbgAssert(!v.empty());
+    const size_t m = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + m, v.end());
+    return v[m];
+}
+
+} // namespace
+
+ICPResult refineICP(const std::vector<Point3f>& model_points, InputArray scene_depth,
+                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0, const ICPParams& params)
+{
+    checkParams(params);
+    Mat depth = scene_depth.getMat();
+    if (depth.empty())
+        CV_Error(Error::StsBadArg, "refineICP: scene_depth is empty");
+    if (depth.type() != CV_16UC1)
+        CV_Error_(Error::StsUnsupportedFormat,
+                  ("refineICP: scene_depth must be CV_16UC1 (millimetres), got %s",
+                   typeToString(depth.type()).c_str()));
+    if (!(K(0, 0) > 0 && K(1, 1) > 0 && K(1, 0) == 0 && K(2, 0) == 0 && K(2, 1) == 0
+          && std::abs(K(2, 2) - 1) < 1e-9))
+        CV_Error(Error::StsBadArg, "refineICP: K is not a pinhole intrinsic matrix with fx, fy > 0");
+    if ((int)model_points.size() < params.min_correspondences)
+        CV_Error_(Error::StsBadArg,
+                  ("refineICP: %d model points, at least min_correspondences = %d are needed",
+                   (int)model_points.size(), params.min_correspondences));
+    Matx33d R0n = R0;
+    {
+        // ground-truth rotations of some datasets (LM-O) are orthonormal to a few 1e-3 only:
+        // accept small deviations and project onto the closest rotation
+        Mat Rm(R0);
+        if (!(std::abs(determinant(Rm) - 1.0) < 0.1
+              && norm(Rm * Rm.t(), Mat::eye(3, 3, CV_64F)) < 0.1))
+            CV_Error(Error::StsBadArg, "refineICP: R0 is not a rotation matrix");
+        SVD svd(Rm);
+        Mat Rp = svd.u * svd.vt;
+        Rp.copyTo(Mat(3, 3, CV_64F, R0n.val));
+    }
+
+    // deterministic, even subsampling of the model points
+    std::vector<Vec3d> pts;
+    const size_t n_all = model_points.size();
+    const size_t n = (params.max_points > 0 && n_all > (size_t)params.max_points)
+                         ? (size_t)params.max_points
+                         : n_all;
+    pts.reserve(n);
+    for (size_t i = 0; i < n; ++i)
+    {
+        const Point3f& p = model_points[n == n_all ? i : (size_t)((double)i * n_all / n)];
+        pts.push_back(Vec3d(p.x, p.y, p.z));
+    }
+
+    SceneCloud cloud(depth, K, params);
+    Matx33d R = R0n;
+    Vec3d t = t0;
+    ICPResult res;
+    double gate = params.max_correspondence_distance;
+    const double sigma_min = params.min_correspondence_distance / params.gate_sigma_factor;
+    const double gmin = params.min_ray_cosine;
+    std::vector<Correspondence> corr;
+    corr.reserve(n);
+    std::vector<double> tmp;
+    tmp.reserve(n);
+
+    for (int it = 0; it < params.max_iterations; ++it)
+    {
+        corr.clear();
+        for (size_t i = 0; i < n; ++i)
+        {
+            Correspondence c;
+            c.q = R * pts[i] + t;
+            Point px;
+            double d2;
+            if (!associate(cloud, c.q, params.search_radius, gate, px, c.s, d2))
+                continue;
+            Vec3f nf;
+            if (!cloud.normal(px.x, px.y, nf))
+                continue;
+            c.n = Vec3d(nf[0], nf[1], nf[2]);
+            c.r = c.n.dot(c.q - c.s);
+            c.d = std::sqrt(d2);
+            c.g = std::max(std::abs(c.n.dot(c.s)) / cv::norm(c.s), gmin);
+            corr.push_back(c);
+        }
+        if ((int)corr.size() < params.min_correspondences)
+            break;
+
+        // robust scale of the residuals, each divided by the share g of the axial sensor noise
+        // that reaches it (noise-aware weighting: weight 1 / g^2)
+        tmp.clear();
+        for (size_t i = 0; i < corr.size(); ++i)
+            tmp.push_back(std::abs(corr[i].r) / corr[i].g);
+        const double sigma = std::max(sigma_min, 1.4826 * median(tmp));
+        // coarse phase (the gate is still shrinking): a tight kernel, so that a coherent group of
+        // outliers (an occluder in front of the object) cannot pull the pose while the inliers'
+        // residuals are still large; fine phase: the efficient kernel
+        const bool coarse = gate > params.min_correspondence_distance * 1.0001;
+        const double cutoff = (coarse ? params.tukey_c_coarse : params.tukey_c) * sigma;
+
+        // centroid of the moved model points: linearise there (well-conditioned 6x6 system)
+        Vec3d centre(0, 0, 0);
+        for (size_t i = 0; i < corr.size(); ++i)
+            centre += corr[i].q;
+        centre *= 1.0 / (double)corr.size();
+
+        Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+        Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+        int used = 0;
+        for (size_t i = 0; i < corr.size(); ++i)
+        {
+            const Correspondence& c = corr[i];
+            const double u = c.r / (c.g * cutoff);
+            if (std::abs(u) >= 1)
+                continue;
+            const double w = (1 - u * u) * (1 - u * u) / (c.g * c.g);
+            const Vec3d qc = c.q - centre;
+            const Vec3d a = qc.cross(c.n);
+            Eigen::Matrix<double, 6, 1> J;
+            J << a[0], a[1], a[2], c.n[0], c.n[1], c.n[2];
+            A.selfadjointView<Eigen::Upper>().rankUpdate(J, w);
+            b -= w * c.r * J;
+            ++used;
+        }
+        if (used < params.min_correspondences)
+            break;
+        const Eigen::Matrix<double, 6, 6> Af = A.selfadjointView<Eigen::Upper>();
+        Eigen::Matrix<double, 6, 1> x = Af.ldlt().solve(b);
+        if (!x.allFinite())
+            break;
+        // trust region on the rotation: the rotation of a roundish object is weakly constrained
+        // by point-to-plane residuals, and a full Gauss-Newton step taken while outliers are
+        // still in can turn it far away. Shorten the rotation, re-solve the translation for it.
+        const double wn = x.head<3>().norm();
+        if (wn > params.max_rotation_step)
+        {
+            x.head<3>() *= params.max_rotation_step / wn;
+            const Eigen::Vector3d bt = b.tail<3>() - Af.block<3, 3>(3, 0) * x.head<3>();
+            x.tail<3>() = Af.block<3, 3>(3, 3).ldlt().solve(bt);
+            if (!x.allFinite())
+                break;
+        }
+
+        const Vec3d omega(x[0], x[1], x[2]), dt(x[3], x[4], x[5]);
+        Matx33d dR;
+        Rodrigues(omega, dR);
+        // q' = dR (q - centre) + centre + dt
+        R = dR * R;
+        t = dR * (t - centre) + centre + dt;
+        res.iterations = it + 1;
+
+        // shrink the gate to gate_sigma_factor robust deviations of the 3D distances
+        tmp.clear();
+        for (size_t i = 0; i < corr.size(); ++i)
+            tmp.push_back(corr[i].d);
+        const double dsigma = 1.4826 * median(tmp);
+        gate = std::min(gate, std::max(params.min_correspondence_distance,
+                                       params.gate_sigma_factor * dsigma));
+
+        if (norm(omega) < params.rotation_epsilon && norm(dt) < params.translation_epsilon)
+        {
+            res.converged = true;
+            break;
+        }
+    }
+
+    // quality at the final pose
+    int inliers = 0;
+    double sse = 0;
+    for (size_t i = 0; i < n; ++i)
+    {
+        Point px;
+        Vec3d s;
+        double d2;
+        if (associate(cloud, R * pts[i] + t, params.search_radius, params.inlier_distance, px, s,
+                      d2))
+        {
+            ++inliers;
+            sse += d2;
+        }
+    }
+    res.R = R;
+    res.t = t;
+    res.fitness = (double)inliers / (double)n;
+    res.inlier_rmse = inliers ? std::sqrt(sse / inliers) : 0.0;
+    return res;
+}
+
+#else
+
+ICPResult refineICP(const std::vector<Point3f>&, InputArray, const Matx33d&, const Matx33d&,
+                    const Vec3d&, const ICPParams& params)
+{
+    checkParams(params);
+    CV_Error(Error::StsNotImplemented, "refineICP: forestmod was built without Eigen");
+}
+
+#endif
+
+} // namespace forestmod
+} // namespace cv
