@@ -8,6 +8,7 @@
 
 #include "precomp.hpp"
 #include "validator.hpp"
+#include "detector_impl.hpp"
 
 #include "opencv2/core/utils/filesystem.hpp"
 #include "opencv2/forestmod/detector.hpp"
@@ -131,39 +132,6 @@ void DetectionStats::reset()
 }
 
 // ---------------------------------------------------------------------------------------------
-/** Dense quantized patch of a template at the coarsest level, kept to build its descriptor. */
-struct DensePatch
-{
-    std::vector<Mat> quantized; //!< [modality] CV_8U, the template's box at the coarsest level
-    Mat mask;                   //!< CV_8U, nonzero on the object
-};
-
-struct TemplateRef
-{
-    String class_id;
-    int template_id;
-};
-
-struct Detector::Impl
-{
-    DetectorParams params;
-    std::map<String, std::vector<TemplatePose> > poses;
-    std::map<String, std::vector<DensePatch> > patches;
-    //! depth samples (x, y relative to the template's top-left at level 0, z mm)
-    std::map<String, std::vector<std::vector<Point3i> > > depth;
-
-    // trained state
-    bool trained;
-    Ptr<TemplateForest> forest;
-    std::vector<TemplateRef> rows;        //!< forest row -> template
-    std::vector<Point> grid;              //!< descriptor grid offsets from the anchor (coarsest level)
-    std::vector<int> plane_of;            //!< per descriptor dimension
-    std::vector<Point> dim_offset;        //!< per descriptor dimension
-    Mutex mutex;
-
-    Impl() : trained(false) {}
-};
-
 // ---------------------------------------------------------------------------------------------
 Detector::Detector() : impl_(makePtr<Impl>()) {}
 
@@ -367,6 +335,7 @@ static int templateAddImpl(Detector& self, std::vector<Ptr<Modality> >& modaliti
     std::vector<TemplatePose>& poses = impl.poses[class_id];
     poses.resize(template_id);
     poses.push_back(pose);
+    poses.back().box = bb;
     std::vector<DensePatch>& patches = impl.patches[class_id];
     patches.resize(template_id);
     patches.push_back(patch);
@@ -424,6 +393,7 @@ int Detector::addTemplates(const Mesh& mesh, const String& class_id, const ViewS
 {
     if (modalities.empty())
         CV_Error(Error::StsError, "forestmod::Detector::addTemplates: no modalities");
+    setMesh(class_id, mesh);
     int added = 0;
     renderTemplates(mesh, sampler, K, size,
                     [&](const TemplateView& v, int done, int total) -> bool {
@@ -1104,6 +1074,7 @@ static void writePose(FileStorage& fs, const TemplatePose& p)
         fs << "R" << Mat(p.R);
         fs << "t" << Mat(p.t);
         fs << "K" << Mat(p.K);
+        fs << "box" << p.box;
     }
     fs << "}";
 }
@@ -1127,6 +1098,7 @@ static TemplatePose readPose(const FileNode& fn)
         p.R = Matx33d(R.reshape(1, 3));
         p.t = Vec3d(t.reshape(1, 3));
         p.K = Matx33d(K.reshape(1, 3));
+        fn["box"] >> p.box;
     }
     return p;
 }

@@ -9,6 +9,7 @@
 #include "opencv2/rgbd/linemod.hpp"
 #include "opencv2/forestmod/forest.hpp"
 #include "opencv2/forestmod/render.hpp"
+#include "opencv2/forestmod/pose.hpp"
 
 #include <functional>
 
@@ -99,16 +100,49 @@ struct CV_EXPORTS_W_SIMPLE TemplatePose
     CV_PROP_RW Matx33d R; //!< model -> camera rotation (BOP cam_R_m2c)
     CV_PROP_RW Vec3d t;   //!< model -> camera translation, mm (BOP cam_t_m2c)
     CV_PROP_RW Matx33d K; //!< intrinsics the template was rendered with
+    CV_PROP_RW Rect box;  //!< the template's box (its features' extent) in its own image, level 0
     CV_PROP_RW bool valid; //!< false for templates added without a pose
+};
+
+/** @brief How Detector::estimatePoses turns matches into 6-DoF poses. FileStorage keys are the
+field names. */
+struct CV_EXPORTS_W_SIMPLE PoseParams
+{
+    CV_WRAP PoseParams();
+    /** Matches refined per class, best first (the others keep their initial pose). Default 3. */
+    CV_PROP_RW int max_per_class;
+    /** Refine with ICP when depth is given and the class has a mesh (setMesh). Default true. */
+    CV_PROP_RW bool icp;
+    /** render + ICP passes (refinePose(); doc/pose.md: 2 remove the bias of the visible rim). */
+    CV_PROP_RW int icp_passes;
+    CV_PROP_RW ICPParams icp_params;
+    /** Depth check tolerance as a share of the object's diameter (LINEMOD ACCV 2012). 0.05. */
+    CV_PROP_RW double depth_check_tolerance;
+    /** Refined hypotheses whose depth check is below this are dropped (ACCV 2012's post-
+    processing); 0 keeps them all. Default 0.5. */
+    CV_PROP_RW double min_depth_agreement;
+
+    void read(const FileNode& fn);
+    void write(FileStorage& fs) const;
 };
 
 /** @brief A match with what cv::linemod::Match lacks: the template's pose label. */
 struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
 {
-    CV_WRAP PoseMatch() {}
-    CV_WRAP PoseMatch(const cv::linemod::Match& m) : cv::linemod::Match(m) {}
+    CV_WRAP PoseMatch() : has_pose(false), refined(false), depth_agreement(-1) {}
+    CV_WRAP PoseMatch(const cv::linemod::Match& m)
+        : cv::linemod::Match(m), has_pose(false), refined(false), depth_agreement(-1)
+    {
+    }
     CV_PROP_RW Rect box;          //!< the template's box at the match (level 0 pixels)
     CV_PROP_RW TemplatePose pose; //!< the matched template's pose label
+    // filled by Detector::estimatePoses
+    CV_PROP_RW bool has_pose;     //!< R, t below are set
+    CV_PROP_RW Matx33d R;         //!< estimated pose in the scene camera, model -> camera
+    CV_PROP_RW Vec3d t;           //!< mm
+    CV_PROP_RW bool refined;      //!< R, t come from ICP (else: initial pose from the template)
+    CV_PROP_RW ICPResult icp;     //!< ICP result when refined
+    CV_PROP_RW double depth_agreement; //!< depth check of the final pose, -1 when not checked
 };
 
 /** @brief LINEMOD detector searched through a fuzzy template forest (Shao, Tang, Kim).
@@ -171,6 +205,32 @@ public:
     /** Same as cv::linemod::Detector::addSyntheticTemplate. */
     CV_WRAP int addSyntheticTemplate(const std::vector<cv::linemod::Template>& templates,
                                      const String& class_id);
+
+    /** The mesh of a class, for pose refinement and depth checks (estimatePoses). addTemplates()
+    sets it; after load() call it again (meshes are not stored in model files). */
+    void setMesh(const String& class_id, const Mesh& mesh);
+    bool hasMesh(const String& class_id) const;
+
+    /** @brief 6-DoF poses for matches of match(..., std::vector<PoseMatch>&, ...).
+
+    Every match whose template has a pose gets an initial pose: the template's rotation corrected
+    for the off-axis viewing ray and its translation along the ray through the matched object, at
+    the template's distance (no depth) or at the distance the scene depth implies under the
+    template's depth samples. With depth and a mesh (setMesh), the best params.max_per_class
+    matches of each class are refined with ICP (refinePose) and depth-checked; those below
+    params.min_depth_agreement are dropped. Matches keep their order.
+    @param depth CV_16UC1 scene depth in mm, or empty for RGB only.
+    @param K     intrinsics of the scene images.
+    */
+    void estimatePoses(InputArray depth, const Matx33d& K, std::vector<PoseMatch>& matches,
+                       const PoseParams& params = PoseParams()) const;
+
+    /** match() + estimatePoses() in one call: sources as for match(); the depth is taken from the
+    DepthNormal source when the detector has one. */
+    void detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
+                std::vector<PoseMatch>& matches,
+                const std::vector<String>& class_ids = std::vector<String>(),
+                const PoseParams& params = PoseParams(), DetectionStats* stats = 0) const;
 
     /** Pose label of a template (valid == false when it was added without one). */
     TemplatePose getTemplatePose(const String& class_id, int template_id) const;

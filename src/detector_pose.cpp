@@ -1,0 +1,160 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// What cv::linemod lacks: a 6-DoF pose per match. Initial pose from the matched template's label
+// and the match location (+ scene depth), ICP refinement and the depth check (pose.cpp).
+
+#include "precomp.hpp"
+#include "detector_impl.hpp"
+
+namespace cv {
+namespace forestmod {
+
+PoseParams::PoseParams()
+    : max_per_class(3), icp(true), icp_passes(2), depth_check_tolerance(0.05),
+      min_depth_agreement(0.5)
+{
+}
+
+void PoseParams::read(const FileNode& fn)
+{
+    if (!fn["max_per_class"].empty())
+        max_per_class = (int)fn["max_per_class"];
+    if (!fn["icp"].empty())
+        icp = (int)fn["icp"] != 0;
+    if (!fn["icp_passes"].empty())
+        icp_passes = (int)fn["icp_passes"];
+    if (!fn["icp_params"].empty())
+        icp_params.read(fn["icp_params"]);
+    if (!fn["depth_check_tolerance"].empty())
+        depth_check_tolerance = (double)fn["depth_check_tolerance"];
+    if (!fn["min_depth_agreement"].empty())
+        min_depth_agreement = (double)fn["min_depth_agreement"];
+}
+
+void PoseParams::write(FileStorage& fs) const
+{
+    fs << "max_per_class" << max_per_class << "icp" << (int)icp << "icp_passes" << icp_passes;
+    fs << "icp_params" << "{";
+    icp_params.write(fs);
+    fs << "}";
+    fs << "depth_check_tolerance" << depth_check_tolerance << "min_depth_agreement"
+       << min_depth_agreement;
+}
+
+void Detector::setMesh(const String& class_id, const Mesh& mesh)
+{
+    mesh.validate();
+    AutoLock lock(impl_->render_mutex);
+    impl_->meshes[class_id] = mesh;
+    impl_->mesh_handles.erase(class_id); // uploaded again on the next use
+}
+
+bool Detector::hasMesh(const String& class_id) const
+{
+    AutoLock lock(impl_->render_mutex);
+    return impl_->meshes.count(class_id) > 0;
+}
+
+void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<PoseMatch>& matches,
+                             const PoseParams& params) const
+{
+    CV_CheckGT(params.icp_passes, 0, "PoseParams: icp_passes must be positive");
+    CV_CheckGE(params.max_per_class, 0, "PoseParams: max_per_class must be >= 0");
+    CV_CheckGT(params.depth_check_tolerance, 0.0, "PoseParams: depth_check_tolerance must be > 0");
+    Mat depth = _depth.getMat();
+    if (!depth.empty() && depth.type() != CV_16UC1)
+        CV_Error_(Error::StsUnsupportedFormat, ("forestmod::Detector::estimatePoses: depth must "
+                                                "be CV_16UC1 in mm, got %s",
+                                                typeToString(depth.type()).c_str()));
+    if (K(0, 0) <= 0 || K(1, 1) <= 0)
+        CV_Error(Error::StsBadArg, "forestmod::Detector::estimatePoses: K has no focal length");
+    Impl& impl = *impl_;
+    std::map<String, int> refined_per_class;
+    std::vector<PoseMatch> kept;
+    for (size_t i = 0; i < matches.size(); ++i)
+    {
+        PoseMatch m = matches[i];
+        m.has_pose = m.refined = false;
+        m.depth_agreement = -1;
+        if (!m.pose.valid)
+        {
+            kept.push_back(m);
+            continue;
+        }
+        const TemplatePose& tp = m.pose;
+        const Vec3d pt = tp.K * tp.t;
+        const Point2d template_px(pt[0] / pt[2], pt[1] / pt[2]);
+        const Point2d scene_px = Point2d(m.x, m.y) + (template_px - Point2d(tp.box.tl()));
+        double z = 0;
+        const std::map<String, std::vector<std::vector<Point3i> > >::const_iterator dit
+            = impl.depth.find(m.class_id);
+        if (!depth.empty() && dit != impl.depth.end()
+            && m.template_id < (int)dit->second.size())
+        {
+            const std::vector<Point3i>& samples = dit->second[m.template_id];
+            std::vector<Point> pos;
+            std::vector<float> tz;
+            for (size_t k = 0; k < samples.size(); ++k)
+            {
+                pos.push_back(Point(m.x + samples[k].x, m.y + samples[k].y));
+                tz.push_back((float)samples[k].z);
+            }
+            if (!pos.empty())
+                z = sceneDepthFromFeatures(depth, pos, tz, tp.t[2]);
+        }
+        initialPose(tp.R, tp.t, tp.K, template_px, K, scene_px, z, m.R, m.t);
+        m.has_pose = true;
+
+        bool drop = false;
+        int& done = refined_per_class[m.class_id];
+        if (!depth.empty() && params.icp && done < params.max_per_class)
+        {
+            AutoLock lock(impl.render_mutex);
+            std::map<String, Mesh>::const_iterator mit = impl.meshes.find(m.class_id);
+            if (mit != impl.meshes.end())
+            {
+                if (impl.renderer.empty() || impl.renderer->size() != depth.size())
+                {
+                    impl.renderer = Renderer::create(depth.size());
+                    impl.mesh_handles.clear();
+                }
+                std::map<String, int>::iterator hit = impl.mesh_handles.find(m.class_id);
+                if (hit == impl.mesh_handles.end())
+                    hit = impl.mesh_handles.insert(std::make_pair(
+                        m.class_id, impl.renderer->addMesh(mit->second))).first;
+                m.icp = refinePose(*impl.renderer, hit->second, depth, K, m.R, m.t,
+                                   params.icp_params, params.icp_passes);
+                if (m.icp.fitness > 0)
+                {
+                    m.R = m.icp.R;
+                    m.t = m.icp.t;
+                    m.refined = true;
+                }
+                const double tol = params.depth_check_tolerance * mit->second.diameter();
+                m.depth_agreement = depthCheck(*impl.renderer, hit->second, depth, K, m.R, m.t, tol);
+                drop = m.depth_agreement < params.min_depth_agreement;
+                ++done;
+            }
+        }
+        if (!drop)
+            kept.push_back(m);
+    }
+    matches.swap(kept);
+}
+
+void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
+                      std::vector<PoseMatch>& matches, const std::vector<String>& class_ids,
+                      const PoseParams& params, DetectionStats* stats) const
+{
+    match(sources, threshold, matches, class_ids, std::vector<Mat>(), stats);
+    Mat depth;
+    for (size_t i = 0; i < modalities.size(); ++i)
+        if (modalities[i]->name() == "DepthNormal")
+            depth = sources[i];
+    estimatePoses(depth, K, matches, params);
+}
+
+} // namespace forestmod
+} // namespace cv
