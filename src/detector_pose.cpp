@@ -178,6 +178,7 @@ void Detector::setMesh(const String& class_id, const Mesh& mesh)
     mesh.validate();
     AutoLock lock(impl_->render_mutex);
     impl_->meshes[class_id] = mesh;
+    impl_->diameters[class_id] = mesh.diameter();
     impl_->mesh_handles.erase(class_id); // uploaded again on the next use
 }
 
@@ -185,6 +186,25 @@ bool Detector::hasMesh(const String& class_id) const
 {
     AutoLock lock(impl_->render_mutex);
     return impl_->meshes.count(class_id) > 0;
+}
+
+// The renderer handle of a class's mesh for images of `size` (-1 without a mesh); the renderer is
+// made again when the size changes. Call with impl.render_mutex held.
+static int meshHandle(Detector::Impl& impl, const String& class_id, Size size)
+{
+    std::map<String, Mesh>::const_iterator mit = impl.meshes.find(class_id);
+    if (mit == impl.meshes.end())
+        return -1;
+    if (impl.renderer.empty() || impl.renderer->size() != size)
+    {
+        impl.renderer = Renderer::create(size);
+        impl.mesh_handles.clear();
+    }
+    std::map<String, int>::iterator hit = impl.mesh_handles.find(class_id);
+    if (hit == impl.mesh_handles.end())
+        hit = impl.mesh_handles.insert(std::make_pair(class_id,
+                                                      impl.renderer->addMesh(mit->second))).first;
+    return hit->second;
 }
 
 void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<PoseMatch>& matches,
@@ -252,19 +272,10 @@ void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<Po
         if (!depth.empty() && params.icp && done < params.max_per_class)
         {
             AutoLock lock(impl.render_mutex);
-            std::map<String, Mesh>::const_iterator mit = impl.meshes.find(m.class_id);
-            if (mit != impl.meshes.end())
+            const int handle = meshHandle(impl, m.class_id, depth.size());
+            if (handle >= 0)
             {
-                if (impl.renderer.empty() || impl.renderer->size() != depth.size())
-                {
-                    impl.renderer = Renderer::create(depth.size());
-                    impl.mesh_handles.clear();
-                }
-                std::map<String, int>::iterator hit = impl.mesh_handles.find(m.class_id);
-                if (hit == impl.mesh_handles.end())
-                    hit = impl.mesh_handles.insert(std::make_pair(
-                        m.class_id, impl.renderer->addMesh(mit->second))).first;
-                m.icp = refinePose(*impl.renderer, hit->second, depth, K, m.R, m.t,
+                m.icp = refinePose(*impl.renderer, handle, depth, K, m.R, m.t,
                                    params.icp_params, params.icp_passes);
                 if (m.icp.fitness > 0)
                 {
@@ -272,8 +283,8 @@ void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<Po
                     m.t = m.icp.t;
                     m.refined = true;
                 }
-                const double tol = params.depth_check_tolerance * mit->second.diameter();
-                m.depth_agreement = depthCheck(*impl.renderer, hit->second, depth, K, m.R, m.t, tol);
+                const double tol = params.depth_check_tolerance * impl.diameters[m.class_id];
+                m.depth_agreement = depthCheck(*impl.renderer, handle, depth, K, m.R, m.t, tol);
                 drop = m.depth_agreement < params.min_depth_agreement;
                 ++done;
             }
@@ -281,25 +292,16 @@ void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<Po
         if (depth.empty() && params.rgb_refine && done < params.max_per_class && !scene_color.empty())
         {
             AutoLock lock(impl.render_mutex);
-            std::map<String, Mesh>::const_iterator mit = impl.meshes.find(m.class_id);
-            if (mit != impl.meshes.end() && gradient >= 0)
+            const int handle = gradient >= 0 ? meshHandle(impl, m.class_id, scene_color.size()) : -1;
+            if (handle >= 0)
             {
-                if (impl.renderer.empty() || impl.renderer->size() != scene_color.size())
-                {
-                    impl.renderer = Renderer::create(scene_color.size());
-                    impl.mesh_handles.clear();
-                }
-                std::map<String, int>::iterator hit = impl.mesh_handles.find(m.class_id);
-                if (hit == impl.mesh_handles.end())
-                    hit = impl.mesh_handles.insert(std::make_pair(
-                        m.class_id, impl.renderer->addMesh(mit->second))).first;
-                if (!rgb_score || rgb_handle != hit->second)
+                if (!rgb_score || rgb_handle != handle)
                 {
                     rgb_score = Ptr<RgbPoseScore>(new RgbPoseScore(
-                        modalities[gradient], scene_color, 3, *impl.renderer, hit->second, K));
-                    rgb_handle = hit->second;
+                        modalities[gradient], scene_color, 3, *impl.renderer, handle, K));
+                    rgb_handle = handle;
                 }
-                const Point3f c = mit->second.center();
+                const Point3f c = impl.meshes[m.class_id].center();
                 refineByRendering(*rgb_score, Point3d(c.x, c.y, c.z), K, params.rgb_evaluations,
                                   m.R, m.t);
                 m.refined = true;
