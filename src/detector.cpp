@@ -30,7 +30,8 @@ static const int MODEL_FORMAT_VERSION = 1;
 // ---------------------------------------------------------------------------------------------
 DetectorParams::DetectorParams()
     : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
-      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(32), depth_tolerance(10)
+      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(10),
+      min_window_labels(0.5f), depth_range_margin(0)
 {
     forest.max_depth = 0; // chosen at train(): 8 for one class, 9 for several (paper)
     // rejectors over dims that half the node's templates cover, and more of them: measured on
@@ -63,6 +64,10 @@ void DetectorParams::read(const FileNode& fn)
         depth_samples = (int)fn["depth_samples"];
     if (!fn["depth_tolerance"].empty())
         depth_tolerance = (int)fn["depth_tolerance"];
+    if (!fn["min_window_labels"].empty())
+        min_window_labels = (float)fn["min_window_labels"];
+    if (!fn["depth_range_margin"].empty())
+        depth_range_margin = (int)fn["depth_range_margin"];
 }
 
 void DetectorParams::write(FileStorage& fs) const
@@ -80,6 +85,8 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "max_survivors" << max_survivors;
     fs << "depth_samples" << depth_samples;
     fs << "depth_tolerance" << depth_tolerance;
+    fs << "min_window_labels" << min_window_labels;
+    fs << "depth_range_margin" << depth_range_margin;
 }
 
 static void checkParams(const DetectorParams& p)
@@ -94,6 +101,9 @@ static void checkParams(const DetectorParams& p)
     CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");
     CV_CheckLE(p.depth_samples, 256, "DetectorParams: depth_samples must be at most 256");
     CV_CheckGT(p.depth_tolerance, 0, "DetectorParams: depth_tolerance must be positive");
+    CV_CheckGE(p.min_window_labels, 0.f, "DetectorParams: min_window_labels must be in [0, 1]");
+    CV_CheckLE(p.min_window_labels, 1.f, "DetectorParams: min_window_labels must be in [0, 1]");
+    CV_CheckGE(p.depth_range_margin, 0, "DetectorParams: depth_range_margin must be >= 0 (0: off)");
 }
 
 // stride (coarsest level pixels) of forest queries: location_step, or T / 2 when 0
@@ -125,7 +135,7 @@ static Mat downsampleNearest(const Mat& img, int levels)
 void DetectionStats::reset()
 {
     t_quantize_ms = t_tree_ms = t_valid_ms = t_total_ms = 0;
-    locations = rejected = validated = candidates = 0;
+    locations = rejected = rejected_flat = rejected_depth_range = validated = candidates = 0;
     rejected_at_depth.clear();
     rejection_map.release();
 }
@@ -159,9 +169,12 @@ struct Detector::Impl
     std::vector<Point> grid;              //!< descriptor grid offsets from the anchor (coarsest level)
     std::vector<int> plane_of;            //!< per descriptor dimension
     std::vector<Point> dim_offset;        //!< per descriptor dimension
+    int min_labels;                       //!< fewest labelled values of a training descriptor
+    int z_min, z_max;                     //!< depth range (mm) of the templates' depth samples
+    std::vector<Point> depth_probe;       //!< offsets (coarsest level) of the depth-range probes
     Mutex mutex;
 
-    Impl() : trained(false) {}
+    Impl() : trained(false), min_labels(0), z_min(0), z_max(0) {}
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -335,13 +348,25 @@ static int templateAddImpl(Detector& self, std::vector<Ptr<Modality> >& modaliti
     if (bounding_box)
         *bounding_box = bb;
 
-    // the template's dense quantized box at the coarsest level (for its forest descriptor)
     const int L = pyramid_levels - 1;
     const Mat coarse_mask = downsampleNearest(object_mask, L);
     const Template& top = tp[L * M];
     const Point origin(bb.x >> L, bb.y >> L);
     Rect box(origin.x, origin.y, top.width + 1, top.height + 1);
     box &= Rect(0, 0, coarse_mask.cols, coarse_mask.rows);
+    // the template's dense quantized box at the coarsest level: its forest descriptor reads the
+    // same plain quantized values as the scene windows (doc/detector.md, "Search")
+    {
+        patch.mask = Mat::zeros(top.height + 1, top.width + 1, CV_8U);
+        const Rect dst(box.x - origin.x, box.y - origin.y, box.width, box.height);
+        coarse_mask(box).copyTo(patch.mask(dst));
+        for (int i = 0; i < M; ++i)
+        {
+            Mat q = Mat::zeros(patch.mask.size(), CV_8U);
+            coarse_quantized[i](box).copyTo(q(dst));
+            patch.quantized.push_back(q);
+        }
+    }
 
     // depth samples spread over the (eroded) object, away from depth edges, relative to the
     // template's top-left at level 0
@@ -581,6 +606,36 @@ void Detector::train()
             ids.at<int>(r * R + k) = r;
         }
     }
+    // flat-window rejection: the fewest labelled values any training descriptor has
+    impl.min_labels = M * P;
+    for (int i = 0; i < desc.rows; ++i)
+        impl.min_labels = std::min(impl.min_labels, countNonZero(desc.row(i)));
+    // out-of-depth-range rejection: the templates' depth range, probed at the anchor and around
+    // it within a third of the smallest template
+    impl.z_min = INT_MAX;
+    impl.z_max = INT_MIN;
+    int min_half = half;
+    for (size_t r = 0; r < impl.rows.size(); ++r)
+    {
+        const TemplateRef& ref = impl.rows[r];
+        const Template& top = class_templates[ref.class_id][ref.template_id][L * M];
+        min_half = std::min(min_half, std::max(1, std::min(top.width, top.height) / 2));
+        const std::vector<std::vector<Point3i> >& dz = impl.depth[ref.class_id];
+        if (ref.template_id < (int)dz.size())
+            for (size_t k = 0; k < dz[ref.template_id].size(); ++k)
+            {
+                impl.z_min = std::min(impl.z_min, dz[ref.template_id][k].z);
+                impl.z_max = std::max(impl.z_max, dz[ref.template_id][k].z);
+            }
+    }
+    if (impl.z_min > impl.z_max)
+        impl.z_min = impl.z_max = 0; // no depth samples: no range check
+    impl.depth_probe.clear();
+    const int h3 = std::max(1, min_half / 3);
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+            impl.depth_probe.push_back(Point(dx * h3, dy * h3));
+
     ForestParams fp = impl.params.forest;
     if (fp.max_depth <= 0)
     {
@@ -845,7 +900,15 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
         std::vector<std::vector<Match> > per_row(H);
         std::vector<ForestQueryStats> row_stats(H);
         std::vector<double> row_tree(H, 0), row_valid(H, 0);
-        std::vector<int64> row_validated(H, 0), row_cands(H, 0);
+        std::vector<int64> row_validated(H, 0), row_cands(H, 0), row_flat(H, 0),
+            row_deprange(H, 0);
+        const int min_labels = params.min_window_labels > 0
+            ? std::max(1, cvCeil(params.min_window_labels * impl.min_labels)) : 0;
+        const bool check_depth = dm >= 0 && params.depth_range_margin > 0
+            && impl.z_max > 0;
+        const Mat scene_depth = dm >= 0 ? sources[dm] : Mat();
+        const int z_lo = impl.z_min - params.depth_range_margin;
+        const int z_hi = impl.z_max + params.depth_range_margin;
         parallel_for_(Range(0, H), [&](const Range& range) {
             std::vector<int> cands;
             std::vector<detail::ValidationCandidate> vc;
@@ -860,6 +923,45 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
                     view.plane_of = &plane_of[0];
                     view.delta = &delta[0];
                     view.offset = (ptrdiff_t)(r * S + B) * (ptrdiff_t)step + (c * S + B);
+                    // before the forest: out of the templates' depth range, or a flat window
+                    if (check_depth)
+                    {
+                        int known = 0, inside = 0;
+                        for (size_t k = 0; k < impl.depth_probe.size() && !inside; ++k)
+                        {
+                            const int x = (c * S + impl.depth_probe[k].x) << L;
+                            const int y = (r * S + impl.depth_probe[k].y) << L;
+                            if (x < 0 || y < 0 || x >= scene_depth.cols || y >= scene_depth.rows)
+                                continue;
+                            const int z = scene_depth.at<ushort>(y, x);
+                            if (!z)
+                                continue;
+                            ++known;
+                            inside += z >= z_lo && z <= z_hi;
+                        }
+                        if (known && !inside)
+                        {
+                            ++row_deprange[r];
+                            if (stats)
+                                rejection_map.at<short>(r, c) = -3;
+                            row_tree[r] += (double)(getTickCount() - q0);
+                            continue;
+                        }
+                    }
+                    if (min_labels > 0)
+                    {
+                        int labels = 0;
+                        for (int j = 0; j < D; ++j)
+                            labels += view.value(j) != 0;
+                        if (labels < min_labels)
+                        {
+                            ++row_flat[r];
+                            if (stats)
+                                rejection_map.at<short>(r, c) = -2;
+                            row_tree[r] += (double)(getTickCount() - q0);
+                            continue;
+                        }
+                    }
                     int depth = -1;
                     const bool ok = forest.query(view, cands, &depth, &row_stats[r]);
                     const int64 q1 = getTickCount();
@@ -989,6 +1091,10 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
                     stats->rejected_at_depth[d] += s.rejected_at_depth[d];
                 stats->validated += row_validated[r];
                 stats->candidates += row_cands[r];
+                stats->locations += row_flat[r] + row_deprange[r];
+                stats->rejected += row_flat[r] + row_deprange[r];
+                stats->rejected_flat += row_flat[r];
+                stats->rejected_depth_range += row_deprange[r];
             }
             stats->rejection_map = rejection_map;
         }

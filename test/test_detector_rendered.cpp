@@ -74,11 +74,6 @@ struct TemplateInfo
     Matx33d R;
 };
 
-struct Outcome
-{
-    bool hit;
-};
-
 static bool evaluate(const std::vector<PoseMatch>& matches, const std::vector<TemplateInfo>& info,
                      const SyntheticScene& scene, const Matx33d& K, double* centre_err = 0)
 {
@@ -129,23 +124,9 @@ TEST(Forestmod_Detector, rendered_scenes_recall_and_rejection)
         std::vector<int> T;
         T.push_back(5);
         T.push_back(8);
+        // library defaults (chosen with samples/forestmod_detector_bench.cpp, doc/detector.md)
         DetectorParams pf, pe;
         pe.use_forest = false;
-        if (getenv("DBG_NOBF")) pf.breadth_first = false;
-        if (getenv("DBG_TAU")) pf.forest.rejector_tau = (float)atof(getenv("DBG_TAU"));
-        if (getenv("DBG_DEPTH")) pf.forest.max_depth = atoi(getenv("DBG_DEPTH"));
-        if (getenv("DBG_XI")) pf.forest.fuzzy_margin = (float)atof(getenv("DBG_XI"));
-        if (getenv("DBG_ANY")) pf.forest.reject_any_tree = atoi(getenv("DBG_ANY")) != 0;
-        if (getenv("DBG_TREES")) pf.forest.num_trees = atoi(getenv("DBG_TREES"));
-        if (getenv("DBG_RHO")) pf.forest.rejector_rho = (float)atof(getenv("DBG_RHO"));
-        if (getenv("DBG_RDIMS")) pf.forest.rejector_dims = atoi(getenv("DBG_RDIMS"));
-        if (getenv("DBG_STEP")) pf.location_step = atoi(getenv("DBG_STEP"));
-        if (getenv("DBG_GRID")) pf.grid_size = atoi(getenv("DBG_GRID"));
-        if (getenv("DBG_COV")) pf.forest.rejector_coverage = (float)atof(getenv("DBG_COV"));
-        if (getenv("DBG_NOISE")) pf.forest.rejector_noise = (float)atof(getenv("DBG_NOISE"));
-        if (getenv("DBG_K")) pf.max_survivors = atoi(getenv("DBG_K"));
-        if (getenv("DBG_CH")) pf.chunk_size = atoi(getenv("DBG_CH"));
-        if (getenv("DBG_DS")) pf.depth_samples = atoi(getenv("DBG_DS"));
         cv::forestmod::Detector forest(mods, T, pf), exhaustive(mods, T, pe);
         std::vector<TemplateInfo> info;
         std::vector<TemplateView> views;
@@ -193,22 +174,6 @@ TEST(Forestmod_Detector, rendered_scenes_recall_and_rejection)
             forest.match(src, 80.f, mf, std::vector<String>(), std::vector<Mat>(), &stats);
             exhaustive.match(src, 80.f, me);
             rejected += stats.rejectedFraction();
-            if (getenv("DBG_MAP") && k == 0)
-            {
-                Mat m = stats.rejection_map, vis;
-                Mat passed = m < 0;
-                m.convertTo(vis, CV_8U, 25, 30);
-                vis.setTo(255, passed);
-                resize(vis, vis, scene.color.size(), 0, 0, INTER_NEAREST);
-                Mat col;
-                applyColorMap(vis, col, COLORMAP_JET);
-                Mat both;
-                hconcat(scene.color, col, both);
-                imwrite(cv::format("/tmp/rej_%d.png", used[oi]), both);
-                std::cout << "depth hist:";
-                for (size_t d = 0; d < stats.rejected_at_depth.size(); ++d) std::cout << " " << stats.rejected_at_depth[d];
-                std::cout << std::endl;
-            }
             double err = -1;
             hits_f += evaluate(mf, info, scene, K, &err);
             hits_e += evaluate(me, info, scene, K);

@@ -60,11 +60,29 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     every template keeps up to this many depth samples spread over its object; after a match is
     refined, a sample agrees when the scene depth there, minus the template's, lies within
     depth_tolerance of the median offset, and the samples join the similarity like features
-    (agreeing: full score). 0: off. Default 32. Not used in the exhaustive mode (plain LINEMOD). */
+    (agreeing: full score). 0: off. Default 0, measured (doc/detector.md, "Search"): on the
+    rendered LM-O scenes, 32 samples with a 10 or 20 mm tolerance turned 2 of 90 top matches
+    (near-ties between views) into misses and corrected none. 32 is a reasonable value to try on
+    real RGB-D data. Not used in the exhaustive mode (plain LINEMOD). */
     CV_PROP_RW int depth_samples;
     /** Tolerance (mm) of the depth agreement. Default 10: noise of a Kinect-class sensor at 1 m
     (a few mm) plus LINEMOD's position step at level 0, well under the relief of LM objects. */
     CV_PROP_RW int depth_tolerance;
+    /** Flat-window rejection (paper: the rejectors remove "textureless background"): a location
+    leaves before the forest when its window holds fewer labelled values (plain quantized, all
+    modalities, at the descriptor's grid points) than min_window_labels times the fewest any
+    training template (sample) has. The object's own window holds at least its template's labels
+    (minus occlusion), so values well under 1 keep recall. 0: off. Default 0.5, measured
+    (doc/detector.md): it removes 0-4 % of the locations, all of which the forest rejects as
+    well, before the forest reads them, and costs no hit. */
+    CV_PROP_RW float min_window_labels;
+    /** Out-of-depth-range rejection (paper: "rejected due to out-of-depth-range"), with a
+    DepthNormal modality: a location leaves before the forest when the scene depth is known at
+    some of the window's central grid points and none of them lies within the templates' depth
+    range (their depth samples, so depth_samples > 0 is needed) widened by this margin (mm).
+    0: off. Default 0: on the rendered scenes (supporting plane 100 mm behind the object) a
+    50 mm margin rejects nothing; useful on real scenes with far backgrounds. */
+    CV_PROP_RW int depth_range_margin;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
@@ -81,12 +99,15 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_PROP double t_valid_ms;       //!< validation + pyramid refinement (paper: T_valid)
     CV_PROP double t_total_ms;       //!< the whole call
     CV_PROP int64 locations;         //!< locations visited on the coarsest level
-    CV_PROP int64 rejected;          //!< locations a background rejector sent out
+    CV_PROP int64 rejected;          //!< locations rejected before validation (all causes)
+    CV_PROP int64 rejected_flat;     //!< of which: window nearly without labels (before the forest)
+    CV_PROP int64 rejected_depth_range; //!< of which: scene depth outside the templates' range
     CV_PROP int64 validated;         //!< locations that reached validation with candidates
     CV_PROP int64 candidates;        //!< candidate templates validated, summed over locations
     CV_PROP std::vector<int64> rejected_at_depth; //!< rejected locations per forest depth
-    /** depth (forest) at which each coarse location was rejected, -1 when it was not; one
-    CV_16SC1 image per call of the coarsest level's grid, on request (Detector::match). */
+    /** depth (forest) at which each coarse location was rejected, -1 when it was not, -2 when
+    its window was flat, -3 when out of depth range; one CV_16SC1 image of the coarsest level's
+    location grid per call, on request (Detector::match). */
     Mat rejection_map;
     //! share of visited locations rejected before validation
     CV_WRAP double rejectedFraction() const { return locations ? double(rejected) / locations : 0; }
