@@ -54,6 +54,7 @@ static const char* keys
       "{grid           | -1      | grid_size }"
       "{step           | -1      | location_step (0: T / 2) }"
       "{min_labels     | -1      | min_window_labels }"
+      "{dominant       | -1      | dominant_window }"
       "{depth_margin   | -1      | depth_range_margin (mm, 0: off) }"
       "{k              | -1      | max_survivors }"
       "{chunk          | -1      | chunk_size }"
@@ -181,6 +182,7 @@ int main(int argc, char** argv)
     BENCH_SET("grid", grid_size, int)
     BENCH_SET("step", location_step, int)
     BENCH_SET("min_labels", min_window_labels, float)
+    BENCH_SET("dominant", dominant_window, int)
     BENCH_SET("depth_margin", depth_range_margin, int)
     BENCH_SET("k", max_survivors, int)
     BENCH_SET("chunk", chunk_size, int)
@@ -260,12 +262,13 @@ int main(int argc, char** argv)
         pe.use_forest = false;
 
         std::printf("params: trees %d depth %d xi %.2f rdims %d rcov %.2f rnoise %.3f tau %.2f "
-                    "any %d grid %d step %d min_labels %.2f depth_margin %d k %d chunk %d\n",
+                    "any %d grid %d step %d min_labels %.2f dominant %d depth_margin %d k %d chunk %d "
+                    "depth_samples %d\n",
                     p.forest.num_trees, p.forest.max_depth, p.forest.fuzzy_margin,
                     p.forest.rejector_dims, p.forest.rejector_coverage, p.forest.rejector_noise,
                     p.forest.rejector_tau, (int)p.forest.reject_any_tree, p.grid_size,
-                    p.location_step, p.min_window_labels, p.depth_range_margin, p.max_survivors,
-                    p.chunk_size);
+                    p.location_step, p.min_window_labels, p.dominant_window, p.depth_range_margin,
+                    p.max_survivors, p.chunk_size, p.depth_samples);
 
         const int groups = together ? 1 : (int)meshes.size();
         double all_rej = 0, all_scenes = 0;

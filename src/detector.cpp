@@ -31,7 +31,7 @@ static const int MODEL_FORMAT_VERSION = 1;
 DetectorParams::DetectorParams()
     : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
       grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(10),
-      min_window_labels(0.5f), depth_range_margin(0)
+      min_window_labels(0.5f), depth_range_margin(0), dominant_window(3)
 {
     forest.max_depth = 0; // chosen at train(): 8 for one class, 9 for several (paper)
     // rejectors over dims that half the node's templates cover, and more of them: measured on
@@ -68,6 +68,8 @@ void DetectorParams::read(const FileNode& fn)
         min_window_labels = (float)fn["min_window_labels"];
     if (!fn["depth_range_margin"].empty())
         depth_range_margin = (int)fn["depth_range_margin"];
+    if (!fn["dominant_window"].empty())
+        dominant_window = (int)fn["dominant_window"];
 }
 
 void DetectorParams::write(FileStorage& fs) const
@@ -87,6 +89,7 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "depth_tolerance" << depth_tolerance;
     fs << "min_window_labels" << min_window_labels;
     fs << "depth_range_margin" << depth_range_margin;
+    fs << "dominant_window" << dominant_window;
 }
 
 static void checkParams(const DetectorParams& p)
@@ -104,6 +107,8 @@ static void checkParams(const DetectorParams& p)
     CV_CheckGE(p.min_window_labels, 0.f, "DetectorParams: min_window_labels must be in [0, 1]");
     CV_CheckLE(p.min_window_labels, 1.f, "DetectorParams: min_window_labels must be in [0, 1]");
     CV_CheckGE(p.depth_range_margin, 0, "DetectorParams: depth_range_margin must be >= 0 (0: off)");
+    CV_CheckGE(p.dominant_window, 1, "DetectorParams: dominant_window must be in [1, 9]");
+    CV_CheckLE(p.dominant_window, 9, "DetectorParams: dominant_window must be in [1, 9]");
 }
 
 // stride (coarsest level pixels) of forest queries: location_step, or T / 2 when 0
@@ -118,6 +123,42 @@ static int depthModality(const std::vector<Ptr<Modality> >& modalities)
         if (modalities[i]->name() == "DepthNormal")
             return static_cast<int>(i);
     return -1;
+}
+
+// Dominant label of each k x k neighbourhood (only where mask, if given, is set): a single-label
+// image that tolerates a misalignment of about k / 2 pixels, for the forest's descriptors of the
+// templates and the scene alike (doc/detector.md, "Search"). k <= 1: a copy.
+static void dominantLabels(const Mat& quantized, const Mat& mask, int k, Mat& dst)
+{
+    if (k <= 1)
+    {
+        dst = quantized.clone();
+        return;
+    }
+    Mat best_count = Mat::zeros(quantized.size(), CV_32S);
+    dst = Mat::zeros(quantized.size(), CV_8U);
+    Mat ind, cnt;
+    for (int b = 0; b < 8; ++b)
+    {
+        const uchar bit = (uchar)(1 << b);
+        ind = Mat::zeros(quantized.size(), CV_8U);
+        ind.setTo(1, (quantized & bit) != 0);
+        if (!mask.empty())
+            ind.setTo(0, mask == 0);
+        boxFilter(ind, cnt, CV_32S, Size(k, k), Point(-1, -1), false, BORDER_CONSTANT);
+        for (int y = 0; y < cnt.rows; ++y)
+        {
+            const int* c = cnt.ptr<int>(y);
+            int* bc = best_count.ptr<int>(y);
+            uchar* d = dst.ptr<uchar>(y);
+            for (int x = 0; x < cnt.cols; ++x)
+                if (c[x] > bc[x])
+                {
+                    bc[x] = c[x];
+                    d[x] = bit;
+                }
+        }
+    }
 }
 
 static Mat downsampleNearest(const Mat& img, int levels)
@@ -596,9 +637,17 @@ void Detector::train()
         const TemplateRef& ref = impl.rows[r];
         const TemplatePyramid& tp = class_templates[ref.class_id][ref.template_id];
         const std::vector<DensePatch>& patches = impl.patches[ref.class_id];
-        DensePatch empty;
-        const DensePatch& patch = ref.template_id < (int)patches.size()
-            ? patches[ref.template_id] : empty;
+        DensePatch patch;
+        if (ref.template_id < (int)patches.size() && !patches[ref.template_id].mask.empty())
+        {
+            // the descriptor reads the dominant labels, as the scene's windows (match())
+            const DensePatch& raw = patches[ref.template_id];
+            patch.mask = raw.mask;
+            patch.quantized.resize(raw.quantized.size());
+            for (size_t m = 0; m < raw.quantized.size(); ++m)
+                dominantLabels(raw.quantized[m], raw.mask, impl.params.dominant_window,
+                               patch.quantized[m]);
+        }
         for (int k = 0; k < R; ++k)
         {
             templateDescriptor(tp, patch, M, L, impl.grid, std::max(1, cvRound(step)), shifts[k],
@@ -884,7 +933,9 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
         const int B = (max_extent >> L) + 2 * T + 2;
         for (int m = 0; m < M; ++m)
         {
-            copyMakeBorder(top.quantized[m], bordered[m], B, B, B, B, BORDER_CONSTANT, Scalar(0));
+            Mat dominant;
+            dominantLabels(top.quantized[m], Mat(), params.dominant_window, dominant);
+            copyMakeBorder(dominant, bordered[m], B, B, B, B, BORDER_CONSTANT, Scalar(0));
             planes[m] = bordered[m].ptr();
         }
         const size_t step = bordered[0].step;

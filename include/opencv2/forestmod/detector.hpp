@@ -83,6 +83,14 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     0: off. Default 0: on the rendered scenes (supporting plane 100 mm behind the object) a
     50 mm margin rejects nothing; useful on real scenes with far backgrounds. */
     CV_PROP_RW int depth_range_margin;
+    /** The forest's descriptors (of the templates at training and of the scene's windows) take
+    at each grid point the dominant label of a dominant_window x dominant_window neighbourhood
+    of the coarsest level's plain quantized image (on the object mask for a template): one label
+    per point as the forest needs (doc/forest.md: spread values mislead it), but tolerant to a
+    misalignment or scale change of about a pixel. 1: the plain label. Default 3, measured
+    (doc/detector.md, "Search"): with 1, a view between two coarse templates (15 % scale,
+    20 degrees) is rejected everywhere. */
+    CV_PROP_RW int dominant_window;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
