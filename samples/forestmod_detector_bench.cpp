@@ -318,6 +318,12 @@ int main(int argc, char** argv)
             for (int o = o0; o < o1; ++o)
             {
                 const String cls = cv::format("obj%d", ids[o]);
+                if (views[o].empty())
+                {
+                    std::printf("%s: no template (every view was rejected by addTemplate)\n",
+                                cls.c_str());
+                    continue;
+                }
                 RNG rng(parser.get<int>("seed") + ids[o]);
                 int hits_f = 0, hits_e = 0;
                 double rejected = 0, rej_depth_range = 0, rej_flat = 0;

@@ -24,7 +24,10 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_WRAP DetectorParams();
 
     /** The template forest (paper: 1 or 5 trees, depth 8 for one object, 9 for several). When
-    max_depth is 0 it is chosen at train(): 8 with one class, 9 with several (paper, Evaluation). */
+    max_depth is 0 it is chosen at train(): 8 with one class, 9 with several (paper, Evaluation).
+    Differences from ForestParams() (measured with samples/forestmod_detector_bench.cpp on
+    rendered LM-O scenes, doc/detector.md "Search"): rejector_coverage 0.5 and rejector_dims 64
+    reject about a point more than 0.8 / 32 at the same hits. */
     CV_PROP_RW ForestParams forest;
     /** Use the forest to choose the candidate templates of a location. false: every template is a
     candidate everywhere (exhaustive LINEMOD search, for comparison and tests). */
@@ -40,11 +43,12 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_PROP_RW float alpha;
     /** Breadth-first validation stops when this many candidates (or fewer) are left, and this
     many best candidates of a location go on to pyramid refinement. Paper: 1 ("until there is
-    only one or no candidate left"). */
+    only one or no candidate left"); 2 did not change the hits of the rendered-scene bench
+    (doc/detector.md). */
     CV_PROP_RW int max_survivors;
     /** Grid points per side of the descriptor window (paper: the template's sample locations r).
     The window covers every template at the coarsest pyramid level. Default 12 (144 points per
-    modality). */
+    modality); 10 and 16 gave the same result on the cases examined (doc/detector.md). */
     CV_PROP_RW int grid_size;
     /** Stride (pixels of the coarsest pyramid level) of the locations sent through the forest;
     0: T / 2 of that level. The forest is trained with every template also shifted by up to half
