@@ -627,8 +627,11 @@ void Detector::train()
     const int S = locationStep(impl.params, T_at_level[L]);
     const int a = S / 2;
     std::vector<Point> shifts;
-    for (int dy = -a; dy <= a; ++dy)
-        for (int dx = -a; dx <= a; ++dx)
+    // in strides of dominant_window - 1: the dominant labels absorb the pixel in between
+    // (doc/detector.md: 9 instead of 25 samples per template, fewer candidates, more rejection)
+    const int sstride = std::max(1, impl.params.dominant_window - 1);
+    for (int dy = -a; dy <= a; dy += sstride)
+        for (int dx = -a; dx <= a; dx += sstride)
             shifts.push_back(Point(dx, dy));
     const int R = static_cast<int>(shifts.size());
     Mat desc(N * R, M * P, CV_8U), fg(N * R, M * P, CV_8U), ids(N * R, 1, CV_32S);

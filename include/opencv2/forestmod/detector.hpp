@@ -91,9 +91,12 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     at each grid point the dominant label of a dominant_window x dominant_window neighbourhood
     of the coarsest level's plain quantized image (on the object mask for a template): one label
     per point as the forest needs (doc/forest.md: spread values mislead it), but tolerant to a
-    misalignment or scale change of about a pixel. 1: the plain label. Default 3, measured
-    (doc/detector.md, "Search"): with 1, a view between two coarse templates (15 % scale,
-    20 degrees) is rejected everywhere. */
+    misalignment or scale change of about a pixel. The shifted training samples of each
+    template (location_step) are then taken in strides of dominant_window - 1 pixels. 1: the
+    plain label, every shift. Default 3, measured (doc/detector.md, "Search"): with 1, a view
+    between two coarse templates (15 % scale, 20 degrees) is rejected everywhere; with 3 and a
+    stride of 2 (9 instead of 25 samples per template) the rendered scenes keep every hit with
+    fewer candidates and more rejection. */
     CV_PROP_RW int dominant_window;
 
     void read(const FileNode& fn);
