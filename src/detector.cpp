@@ -31,7 +31,8 @@ static const int MODEL_FORMAT_VERSION = 1;
 // ---------------------------------------------------------------------------------------------
 DetectorParams::DetectorParams()
     : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
-      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(32), depth_tolerance(10)
+      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(10),
+      min_window_labels(0.5f), depth_range_margin(0), dominant_window(3)
 {
     forest.max_depth = 0; // chosen at train(): 8 for one class, 9 for several (paper)
     // rejectors over dims that half the node's templates cover, and more of them: measured on
@@ -64,6 +65,12 @@ void DetectorParams::read(const FileNode& fn)
         depth_samples = (int)fn["depth_samples"];
     if (!fn["depth_tolerance"].empty())
         depth_tolerance = (int)fn["depth_tolerance"];
+    if (!fn["min_window_labels"].empty())
+        min_window_labels = (float)fn["min_window_labels"];
+    if (!fn["depth_range_margin"].empty())
+        depth_range_margin = (int)fn["depth_range_margin"];
+    if (!fn["dominant_window"].empty())
+        dominant_window = (int)fn["dominant_window"];
 }
 
 void DetectorParams::write(FileStorage& fs) const
@@ -81,6 +88,9 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "max_survivors" << max_survivors;
     fs << "depth_samples" << depth_samples;
     fs << "depth_tolerance" << depth_tolerance;
+    fs << "min_window_labels" << min_window_labels;
+    fs << "depth_range_margin" << depth_range_margin;
+    fs << "dominant_window" << dominant_window;
 }
 
 static void checkParams(const DetectorParams& p)
@@ -95,6 +105,11 @@ static void checkParams(const DetectorParams& p)
     CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");
     CV_CheckLE(p.depth_samples, 256, "DetectorParams: depth_samples must be at most 256");
     CV_CheckGT(p.depth_tolerance, 0, "DetectorParams: depth_tolerance must be positive");
+    CV_CheckGE(p.min_window_labels, 0.f, "DetectorParams: min_window_labels must be in [0, 1]");
+    CV_CheckLE(p.min_window_labels, 1.f, "DetectorParams: min_window_labels must be in [0, 1]");
+    CV_CheckGE(p.depth_range_margin, 0, "DetectorParams: depth_range_margin must be >= 0 (0: off)");
+    CV_CheckGE(p.dominant_window, 1, "DetectorParams: dominant_window must be in [1, 9]");
+    CV_CheckLE(p.dominant_window, 9, "DetectorParams: dominant_window must be in [1, 9]");
 }
 
 // stride (coarsest level pixels) of forest queries: location_step, or T / 2 when 0
@@ -109,6 +124,42 @@ static int depthModality(const std::vector<Ptr<Modality> >& modalities)
         if (modalities[i]->name() == "DepthNormal")
             return static_cast<int>(i);
     return -1;
+}
+
+// Dominant label of each k x k neighbourhood (only where mask, if given, is set): a single-label
+// image that tolerates a misalignment of about k / 2 pixels, for the forest's descriptors of the
+// templates and the scene alike (doc/detector.md, "Search"). k <= 1: a copy.
+static void dominantLabels(const Mat& quantized, const Mat& mask, int k, Mat& dst)
+{
+    if (k <= 1)
+    {
+        dst = quantized.clone();
+        return;
+    }
+    Mat best_count = Mat::zeros(quantized.size(), CV_32S);
+    dst = Mat::zeros(quantized.size(), CV_8U);
+    Mat ind, cnt;
+    for (int b = 0; b < 8; ++b)
+    {
+        const uchar bit = (uchar)(1 << b);
+        ind = Mat::zeros(quantized.size(), CV_8U);
+        ind.setTo(1, (quantized & bit) != 0);
+        if (!mask.empty())
+            ind.setTo(0, mask == 0);
+        boxFilter(ind, cnt, CV_32S, Size(k, k), Point(-1, -1), false, BORDER_CONSTANT);
+        for (int y = 0; y < cnt.rows; ++y)
+        {
+            const int* c = cnt.ptr<int>(y);
+            int* bc = best_count.ptr<int>(y);
+            uchar* d = dst.ptr<uchar>(y);
+            for (int x = 0; x < cnt.cols; ++x)
+                if (c[x] > bc[x])
+                {
+                    bc[x] = c[x];
+                    d[x] = bit;
+                }
+        }
+    }
 }
 
 static Mat downsampleNearest(const Mat& img, int levels)
@@ -126,7 +177,7 @@ static Mat downsampleNearest(const Mat& img, int levels)
 void DetectionStats::reset()
 {
     t_quantize_ms = t_tree_ms = t_valid_ms = t_total_ms = 0;
-    locations = rejected = validated = candidates = 0;
+    locations = rejected = rejected_flat = rejected_depth_range = validated = candidates = 0;
     rejected_at_depth.clear();
     rejection_map.release();
 }
@@ -303,13 +354,25 @@ static int templateAddImpl(Detector& self, std::vector<Ptr<Modality> >& modaliti
     if (bounding_box)
         *bounding_box = bb;
 
-    // the template's dense quantized box at the coarsest level (for its forest descriptor)
     const int L = pyramid_levels - 1;
     const Mat coarse_mask = downsampleNearest(object_mask, L);
     const Template& top = tp[L * M];
     const Point origin(bb.x >> L, bb.y >> L);
     Rect box(origin.x, origin.y, top.width + 1, top.height + 1);
     box &= Rect(0, 0, coarse_mask.cols, coarse_mask.rows);
+    // the template's dense quantized box at the coarsest level: its forest descriptor reads the
+    // same plain quantized values as the scene windows (doc/detector.md, "Search")
+    {
+        patch.mask = Mat::zeros(top.height + 1, top.width + 1, CV_8U);
+        const Rect dst(box.x - origin.x, box.y - origin.y, box.width, box.height);
+        coarse_mask(box).copyTo(patch.mask(dst));
+        for (int i = 0; i < M; ++i)
+        {
+            Mat q = Mat::zeros(patch.mask.size(), CV_8U);
+            coarse_quantized[i](box).copyTo(q(dst));
+            patch.quantized.push_back(q);
+        }
+    }
 
     // depth samples spread over the (eroded) object, away from depth edges, relative to the
     // template's top-left at level 0
@@ -522,6 +585,90 @@ static double buildGeometry(Detector::Impl& impl,
     return step;
 }
 
+// Everything training derives from the templates besides the forest itself: the descriptor
+// geometry, every template's descriptors (with shifted samples), the flat-window and depth-range
+// rejection limits. Deterministic; load() runs it too and reads the trained forest.
+static void prepareTraining(Detector::Impl& impl,
+                            std::map<String, std::vector<TemplatePyramid> >& class_templates,
+                            int M, int L, int T, Mat& desc, Mat& fg, Mat& ids)
+{
+    int N = 0;
+    for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
+         it != class_templates.end(); ++it)
+        N += (int)it->second.size();
+    const double step = buildGeometry(impl, class_templates, M, L);
+    const int P = static_cast<int>(impl.grid.size());
+
+    // each template also as seen from locations up to `a` pixels off its anchor (the scene is
+    // queried every location_step pixels): doc/forest.md, "Misaligned windows"
+    const int S = locationStep(impl.params, T);
+    const int a = S / 2;
+    std::vector<Point> shifts;
+    // in strides of dominant_window - 1: the dominant labels absorb the pixel in between
+    // (doc/detector.md: 9 instead of 25 samples per template, fewer candidates, more rejection)
+    const int sstride = std::max(1, impl.params.dominant_window - 1);
+    for (int dy = -a; dy <= a; dy += sstride)
+        for (int dx = -a; dx <= a; dx += sstride)
+            shifts.push_back(Point(dx, dy));
+    const int R = static_cast<int>(shifts.size());
+    desc.create(N * R, M * P, CV_8U);
+    fg.create(N * R, M * P, CV_8U);
+    ids.create(N * R, 1, CV_32S);
+    for (int r = 0; r < N; ++r)
+    {
+        const TemplateRef& ref = impl.rows[r];
+        const TemplatePyramid& tp = class_templates[ref.class_id][ref.template_id];
+        const std::vector<DensePatch>& patches = impl.patches[ref.class_id];
+        DensePatch patch;
+        if (ref.template_id < (int)patches.size() && !patches[ref.template_id].mask.empty())
+        {
+            // the descriptor reads the dominant labels, as the scene's windows (match())
+            const DensePatch& raw = patches[ref.template_id];
+            patch.mask = raw.mask;
+            patch.quantized.resize(raw.quantized.size());
+            for (size_t m = 0; m < raw.quantized.size(); ++m)
+                dominantLabels(raw.quantized[m], raw.mask, impl.params.dominant_window,
+                               patch.quantized[m]);
+        }
+        for (int k = 0; k < R; ++k)
+        {
+            templateDescriptor(tp, patch, M, L, impl.grid, std::max(1, cvRound(step)), shifts[k],
+                               desc.ptr(r * R + k), fg.ptr(r * R + k));
+            ids.at<int>(r * R + k) = r;
+        }
+    }
+    // flat-window rejection: the fewest labelled values any training descriptor has
+    impl.min_labels = M * P;
+    for (int i = 0; i < desc.rows; ++i)
+        impl.min_labels = std::min(impl.min_labels, countNonZero(desc.row(i)));
+    // out-of-depth-range rejection: the templates' depth range, probed at the anchor and around
+    // it within a third of the smallest template
+    impl.z_min = INT_MAX;
+    impl.z_max = INT_MIN;
+    int min_half = INT_MAX;
+    for (size_t r = 0; r < impl.rows.size(); ++r)
+    {
+        const TemplateRef& ref = impl.rows[r];
+        const Template& top = class_templates[ref.class_id][ref.template_id][L * M];
+        min_half = std::min(min_half, std::max(1, std::min(top.width, top.height) / 2));
+        const std::vector<std::vector<Point3i> >& dz = impl.depth[ref.class_id];
+        if (ref.template_id < (int)dz.size())
+            for (size_t k = 0; k < dz[ref.template_id].size(); ++k)
+            {
+                impl.z_min = std::min(impl.z_min, dz[ref.template_id][k].z);
+                impl.z_max = std::max(impl.z_max, dz[ref.template_id][k].z);
+            }
+    }
+    if (impl.z_min > impl.z_max)
+        impl.z_min = impl.z_max = 0; // no depth samples: no range check
+    impl.depth_probe.clear();
+    const int h3 = std::max(1, min_half / 3);
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+            impl.depth_probe.push_back(Point(dx * h3, dy * h3));
+
+}
+
 void Detector::train()
 {
     AutoLock lock(impl_->mutex);
@@ -534,34 +681,9 @@ void Detector::train()
         CV_Error(Error::StsError, "forestmod::Detector::train: no templates (addTemplate first)");
     const int L = pyramid_levels - 1;
 
-    const double step = buildGeometry(impl, class_templates, M, L);
-    const int P = static_cast<int>(impl.grid.size());
+    Mat desc, fg, ids;
+    prepareTraining(impl, class_templates, M, L, T_at_level[L], desc, fg, ids);
 
-    // each template also as seen from locations up to `a` pixels off its anchor (the scene is
-    // queried every location_step pixels): doc/forest.md, "Misaligned windows"
-    const int S = locationStep(impl.params, T_at_level[L]);
-    const int a = S / 2;
-    std::vector<Point> shifts;
-    for (int dy = -a; dy <= a; ++dy)
-        for (int dx = -a; dx <= a; ++dx)
-            shifts.push_back(Point(dx, dy));
-    const int R = static_cast<int>(shifts.size());
-    Mat desc(N * R, M * P, CV_8U), fg(N * R, M * P, CV_8U), ids(N * R, 1, CV_32S);
-    for (int r = 0; r < N; ++r)
-    {
-        const TemplateRef& ref = impl.rows[r];
-        const TemplatePyramid& tp = class_templates[ref.class_id][ref.template_id];
-        const std::vector<DensePatch>& patches = impl.patches[ref.class_id];
-        DensePatch empty;
-        const DensePatch& patch = ref.template_id < (int)patches.size()
-            ? patches[ref.template_id] : empty;
-        for (int k = 0; k < R; ++k)
-        {
-            templateDescriptor(tp, patch, M, L, impl.grid, std::max(1, cvRound(step)), shifts[k],
-                               desc.ptr(r * R + k), fg.ptr(r * R + k));
-            ids.at<int>(r * R + k) = r;
-        }
-    }
     ForestParams fp = impl.params.forest;
     if (fp.max_depth <= 0)
     {
@@ -810,7 +932,9 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
         const int B = (max_extent >> L) + 2 * T + 2;
         for (int m = 0; m < M; ++m)
         {
-            copyMakeBorder(top.quantized[m], bordered[m], B, B, B, B, BORDER_CONSTANT, Scalar(0));
+            Mat dominant;
+            dominantLabels(top.quantized[m], Mat(), params.dominant_window, dominant);
+            copyMakeBorder(dominant, bordered[m], B, B, B, B, BORDER_CONSTANT, Scalar(0));
             planes[m] = bordered[m].ptr();
         }
         const size_t step = bordered[0].step;
@@ -826,7 +950,15 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
         std::vector<std::vector<Match> > per_row(H);
         std::vector<ForestQueryStats> row_stats(H);
         std::vector<double> row_tree(H, 0), row_valid(H, 0);
-        std::vector<int64> row_validated(H, 0), row_cands(H, 0);
+        std::vector<int64> row_validated(H, 0), row_cands(H, 0), row_flat(H, 0),
+            row_deprange(H, 0);
+        const int min_labels = params.min_window_labels > 0
+            ? std::max(1, cvCeil(params.min_window_labels * impl.min_labels)) : 0;
+        const bool check_depth = dm >= 0 && params.depth_range_margin > 0
+            && impl.z_max > 0;
+        const Mat scene_depth = dm >= 0 ? sources[dm] : Mat();
+        const int z_lo = impl.z_min - params.depth_range_margin;
+        const int z_hi = impl.z_max + params.depth_range_margin;
         parallel_for_(Range(0, H), [&](const Range& range) {
             std::vector<int> cands;
             std::vector<detail::ValidationCandidate> vc;
@@ -841,6 +973,45 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
                     view.plane_of = &plane_of[0];
                     view.delta = &delta[0];
                     view.offset = (ptrdiff_t)(r * S + B) * (ptrdiff_t)step + (c * S + B);
+                    // before the forest: out of the templates' depth range, or a flat window
+                    if (check_depth)
+                    {
+                        int known = 0, inside = 0;
+                        for (size_t k = 0; k < impl.depth_probe.size() && !inside; ++k)
+                        {
+                            const int x = (c * S + impl.depth_probe[k].x) << L;
+                            const int y = (r * S + impl.depth_probe[k].y) << L;
+                            if (x < 0 || y < 0 || x >= scene_depth.cols || y >= scene_depth.rows)
+                                continue;
+                            const int z = scene_depth.at<ushort>(y, x);
+                            if (!z)
+                                continue;
+                            ++known;
+                            inside += z >= z_lo && z <= z_hi;
+                        }
+                        if (known && !inside)
+                        {
+                            ++row_deprange[r];
+                            if (stats)
+                                rejection_map.at<short>(r, c) = -3;
+                            row_tree[r] += (double)(getTickCount() - q0);
+                            continue;
+                        }
+                    }
+                    if (min_labels > 0)
+                    {
+                        int labels = 0;
+                        for (int j = 0; j < D; ++j)
+                            labels += view.value(j) != 0;
+                        if (labels < min_labels)
+                        {
+                            ++row_flat[r];
+                            if (stats)
+                                rejection_map.at<short>(r, c) = -2;
+                            row_tree[r] += (double)(getTickCount() - q0);
+                            continue;
+                        }
+                    }
                     int depth = -1;
                     const bool ok = forest.query(view, cands, &depth, &row_stats[r]);
                     const int64 q1 = getTickCount();
@@ -970,6 +1141,10 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
                     stats->rejected_at_depth[d] += s.rejected_at_depth[d];
                 stats->validated += row_validated[r];
                 stats->candidates += row_cands[r];
+                stats->locations += row_flat[r] + row_deprange[r];
+                stats->rejected += row_flat[r] + row_deprange[r];
+                stats->rejected_flat += row_flat[r];
+                stats->rejected_depth_range += row_deprange[r];
             }
             stats->rejection_map = rejection_map;
         }
@@ -1381,11 +1556,13 @@ void Detector::load(const String& filename)
     if (!forest_fn.empty())
     {
         // the trained forest is read as it is (training a large model takes minutes); the
-        // descriptor geometry is a function of the templates and parameters
+        // descriptor geometry and rejection limits are functions of the templates and parameters
         Ptr<TemplateForest> f = TemplateForest::create(impl_->params.forest);
         f->read(forest_fn);
         AutoLock lock(impl_->mutex);
-        buildGeometry(*impl_, class_templates, (int)modalities.size(), pyramid_levels - 1);
+        Mat desc, fg, ids;
+        prepareTraining(*impl_, class_templates, (int)modalities.size(), pyramid_levels - 1,
+                        T_at_level.back(), desc, fg, ids);
         if (f->empty() || f->numTemplates() != numTemplates()
             || f->dims() != (int)impl_->plane_of.size())
             CV_Error_(Error::StsParseError, ("forestmod::Detector::load: the forest in '%s' does "

@@ -49,9 +49,12 @@ struct Detector::Impl
     std::vector<Point> grid;              //!< descriptor grid offsets from the anchor (coarsest level)
     std::vector<int> plane_of;            //!< per descriptor dimension
     std::vector<Point> dim_offset;        //!< per descriptor dimension
+    int min_labels;                       //!< fewest labelled values of a training descriptor
+    int z_min, z_max;                     //!< depth range (mm) of the templates' depth samples
+    std::vector<Point> depth_probe;       //!< offsets (coarsest level) of the depth-range probes
     Mutex mutex;
 
-    Impl() : trained(false) {}
+    Impl() : trained(false), min_labels(0), z_min(0), z_max(0) {}
 };
 
 } // namespace forestmod

@@ -74,11 +74,6 @@ struct TemplateInfo
     Matx33d R;
 };
 
-struct Outcome
-{
-    bool hit;
-};
-
 static bool evaluate(const std::vector<PoseMatch>& matches, const std::vector<TemplateInfo>& info,
                      const SyntheticScene& scene, const Matx33d& K, double* centre_err = 0)
 {
@@ -129,23 +124,9 @@ TEST(Forestmod_Detector, rendered_scenes_recall_and_rejection)
         std::vector<int> T;
         T.push_back(5);
         T.push_back(8);
+        // library defaults (chosen with samples/forestmod_detector_bench.cpp, doc/detector.md)
         DetectorParams pf, pe;
         pe.use_forest = false;
-        if (getenv("DBG_NOBF")) pf.breadth_first = false;
-        if (getenv("DBG_TAU")) pf.forest.rejector_tau = (float)atof(getenv("DBG_TAU"));
-        if (getenv("DBG_DEPTH")) pf.forest.max_depth = atoi(getenv("DBG_DEPTH"));
-        if (getenv("DBG_XI")) pf.forest.fuzzy_margin = (float)atof(getenv("DBG_XI"));
-        if (getenv("DBG_ANY")) pf.forest.reject_any_tree = atoi(getenv("DBG_ANY")) != 0;
-        if (getenv("DBG_TREES")) pf.forest.num_trees = atoi(getenv("DBG_TREES"));
-        if (getenv("DBG_RHO")) pf.forest.rejector_rho = (float)atof(getenv("DBG_RHO"));
-        if (getenv("DBG_RDIMS")) pf.forest.rejector_dims = atoi(getenv("DBG_RDIMS"));
-        if (getenv("DBG_STEP")) pf.location_step = atoi(getenv("DBG_STEP"));
-        if (getenv("DBG_GRID")) pf.grid_size = atoi(getenv("DBG_GRID"));
-        if (getenv("DBG_COV")) pf.forest.rejector_coverage = (float)atof(getenv("DBG_COV"));
-        if (getenv("DBG_NOISE")) pf.forest.rejector_noise = (float)atof(getenv("DBG_NOISE"));
-        if (getenv("DBG_K")) pf.max_survivors = atoi(getenv("DBG_K"));
-        if (getenv("DBG_CH")) pf.chunk_size = atoi(getenv("DBG_CH"));
-        if (getenv("DBG_DS")) pf.depth_samples = atoi(getenv("DBG_DS"));
         cv::forestmod::Detector forest(mods, T, pf), exhaustive(mods, T, pe);
         std::vector<TemplateInfo> info;
         std::vector<TemplateView> views;
@@ -193,22 +174,6 @@ TEST(Forestmod_Detector, rendered_scenes_recall_and_rejection)
             forest.match(src, 80.f, mf, std::vector<String>(), std::vector<Mat>(), &stats);
             exhaustive.match(src, 80.f, me);
             rejected += stats.rejectedFraction();
-            if (getenv("DBG_MAP") && k == 0)
-            {
-                Mat m = stats.rejection_map, vis;
-                Mat passed = m < 0;
-                m.convertTo(vis, CV_8U, 25, 30);
-                vis.setTo(255, passed);
-                resize(vis, vis, scene.color.size(), 0, 0, INTER_NEAREST);
-                Mat col;
-                applyColorMap(vis, col, COLORMAP_JET);
-                Mat both;
-                hconcat(scene.color, col, both);
-                imwrite(cv::format("/tmp/rej_%d.png", used[oi]), both);
-                std::cout << "depth hist:";
-                for (size_t d = 0; d < stats.rejected_at_depth.size(); ++d) std::cout << " " << stats.rejected_at_depth[d];
-                std::cout << std::endl;
-            }
             double err = -1;
             hits_f += evaluate(mf, info, scene, K, &err);
             hits_e += evaluate(me, info, scene, K);
@@ -255,6 +220,94 @@ TEST(Forestmod_Detector, addTemplates_from_mesh_with_poses)
         found = found || (rotationAngleDeg(poses[i].R, tp.R) < 1e-6
                           && cv::norm(poses[i].t - tp.t) < 1e-6);
     EXPECT_TRUE(found);
+}
+
+}} // namespace
+
+namespace opencv_test { namespace {
+
+// The two rejections before the forest: out of the templates' depth range, and flat windows.
+TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
+{
+    const Mesh ape = Mesh::load(meshPath(1));
+    const Matx33d K = lmoK();
+    const Size size(640, 480);
+    ViewSampler::Params sp;
+    sp.level = 0;
+    sp.min_elevation = 20;
+    sp.radii = std::vector<double>(1, 800.0);
+    sp.inplane_min = 0;
+    sp.inplane_max = 0;
+    sp.inplane_step = 10;
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(linemod::Modality::create("ColorGradient"));
+    mods.push_back(linemod::Modality::create("DepthNormal"));
+    mods.push_back(ColorHue::create());
+    std::vector<int> T;
+    T.push_back(5);
+    T.push_back(8);
+    DetectorParams p;
+    p.depth_samples = 16;     // the depth range comes from the templates' depth samples
+    p.depth_range_margin = 100;
+    cv::forestmod::Detector det(mods, T, p);
+    std::vector<TemplateView> views;
+    renderTemplates(ape, ViewSampler(sp), K, size, views);
+    for (size_t i = 0; i < views.size(); ++i)
+    {
+        std::vector<Mat> src;
+        src.push_back(views[i].color);
+        src.push_back(views[i].depth);
+        src.push_back(views[i].color);
+        det.addTemplate(src, "ape", views[i].mask, views[i].R, views[i].t, views[i].K);
+    }
+    ASSERT_GT(det.numTemplates(), 0);
+    det.train();
+
+    Ptr<Renderer> renderer = Renderer::create(size);
+    SceneSynthesizer synth(renderer, K);
+    synth.addObject(ape);
+    synth.setBackgrounds(backgrounds());
+    RNG rng(7);
+    const SyntheticScene scene = synth.render(0, views[0].R, views[0].t, rng);
+    // a far wall (3 m) everywhere except around the object
+    Mat depth = scene.depth.clone();
+    Mat keep = Mat::zeros(size, CV_8U);
+    rectangle(keep, scene.bbox, Scalar(255), FILLED);
+    cv::dilate(keep, keep, Mat(), Point(-1, -1), 8);
+    depth.setTo(3000, keep == 0);
+    std::vector<Mat> src;
+    src.push_back(scene.color);
+    src.push_back(depth);
+    src.push_back(scene.color);
+    std::vector<PoseMatch> with, without;
+    DetectionStats st;
+    det.match(src, 80.f, with, std::vector<String>(), std::vector<Mat>(), &st);
+    EXPECT_GT(st.rejected_depth_range, st.locations / 2) << "the far wall covers most locations";
+    EXPECT_LE(st.rejected_depth_range, st.rejected);
+    DetectorParams off = p;
+    off.depth_range_margin = 0;
+    det.setParams(off);
+    DetectionStats st_off;
+    det.match(src, 80.f, without, std::vector<String>(), std::vector<Mat>(), &st_off);
+    EXPECT_EQ(0, st_off.rejected_depth_range);
+    ASSERT_FALSE(without.empty());
+    ASSERT_FALSE(with.empty()) << "the object (inside the depth range) must still be found";
+    EXPECT_EQ(without[0].template_id, with[0].template_id);
+    EXPECT_EQ(without[0].x, with[0].x);
+    EXPECT_EQ(without[0].y, with[0].y);
+
+    // a uniform grey image without depth: every window is flat
+    std::vector<Mat> flat;
+    flat.push_back(Mat(size, CV_8UC3, Scalar::all(128)));
+    flat.push_back(Mat::zeros(size, CV_16U));
+    flat.push_back(flat[0]);
+    DetectionStats st_flat;
+    std::vector<PoseMatch> none;
+    det.match(flat, 80.f, none, std::vector<String>(), std::vector<Mat>(), &st_flat);
+    EXPECT_TRUE(none.empty());
+    EXPECT_GT(st_flat.locations, 0);
+    EXPECT_EQ(st_flat.locations, st_flat.rejected_flat);
+    EXPECT_EQ(st_flat.locations, st_flat.rejected);
 }
 
 }} // namespace

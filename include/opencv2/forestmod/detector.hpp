@@ -25,7 +25,10 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_WRAP DetectorParams();
 
     /** The template forest (paper: 1 or 5 trees, depth 8 for one object, 9 for several). When
-    max_depth is 0 it is chosen at train(): 8 with one class, 9 with several (paper, Evaluation). */
+    max_depth is 0 it is chosen at train(): 8 with one class, 9 with several (paper, Evaluation).
+    Differences from ForestParams() (measured with samples/forestmod_detector_bench.cpp on
+    rendered LM-O scenes, doc/detector.md "Search"): rejector_coverage 0.5 and rejector_dims 64
+    reject about a point more than 0.8 / 32 at the same hits. */
     CV_PROP_RW ForestParams forest;
     /** Use the forest to choose the candidate templates of a location. false: every template is a
     candidate everywhere (exhaustive LINEMOD search, for comparison and tests). */
@@ -41,11 +44,12 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_PROP_RW float alpha;
     /** Breadth-first validation stops when this many candidates (or fewer) are left, and this
     many best candidates of a location go on to pyramid refinement. Paper: 1 ("until there is
-    only one or no candidate left"). */
+    only one or no candidate left"); 2 did not change the hits of the rendered-scene bench
+    (doc/detector.md). */
     CV_PROP_RW int max_survivors;
     /** Grid points per side of the descriptor window (paper: the template's sample locations r).
     The window covers every template at the coarsest pyramid level. Default 12 (144 points per
-    modality). */
+    modality); 10 and 16 gave the same result on the cases examined (doc/detector.md). */
     CV_PROP_RW int grid_size;
     /** Stride (pixels of the coarsest pyramid level) of the locations sent through the forest;
     0: T / 2 of that level. The forest is trained with every template also shifted by up to half
@@ -61,11 +65,40 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     every template keeps up to this many depth samples spread over its object; after a match is
     refined, a sample agrees when the scene depth there, minus the template's, lies within
     depth_tolerance of the median offset, and the samples join the similarity like features
-    (agreeing: full score). 0: off. Default 32. Not used in the exhaustive mode (plain LINEMOD). */
+    (agreeing: full score). 0: off. Default 0, measured (doc/detector.md, "Search"): on the
+    rendered LM-O scenes, 32 samples with a 10 or 20 mm tolerance turned 2 of 90 top matches
+    (near-ties between views) into misses and corrected none. 32 is a reasonable value to try on
+    real RGB-D data. Not used in the exhaustive mode (plain LINEMOD). */
     CV_PROP_RW int depth_samples;
     /** Tolerance (mm) of the depth agreement. Default 10: noise of a Kinect-class sensor at 1 m
     (a few mm) plus LINEMOD's position step at level 0, well under the relief of LM objects. */
     CV_PROP_RW int depth_tolerance;
+    /** Flat-window rejection (paper: the rejectors remove "textureless background"): a location
+    leaves before the forest when its window holds fewer labelled values (plain quantized, all
+    modalities, at the descriptor's grid points) than min_window_labels times the fewest any
+    training template (sample) has. The object's own window holds at least its template's labels
+    (minus occlusion), so values well under 1 keep recall. 0: off. Default 0.5, measured
+    (doc/detector.md): it removes 0-4 % of the locations, all of which the forest rejects as
+    well, before the forest reads them, and costs no hit. */
+    CV_PROP_RW float min_window_labels;
+    /** Out-of-depth-range rejection (paper: "rejected due to out-of-depth-range"), with a
+    DepthNormal modality: a location leaves before the forest when the scene depth is known at
+    some of the window's central grid points and none of them lies within the templates' depth
+    range (their depth samples, so depth_samples > 0 is needed) widened by this margin (mm).
+    0: off. Default 0: on the rendered scenes (supporting plane 100 mm behind the object) a
+    50 mm margin rejects nothing; useful on real scenes with far backgrounds. */
+    CV_PROP_RW int depth_range_margin;
+    /** The forest's descriptors (of the templates at training and of the scene's windows) take
+    at each grid point the dominant label of a dominant_window x dominant_window neighbourhood
+    of the coarsest level's plain quantized image (on the object mask for a template): one label
+    per point as the forest needs (doc/forest.md: spread values mislead it), but tolerant to a
+    misalignment or scale change of about a pixel. The shifted training samples of each
+    template (location_step) are then taken in strides of dominant_window - 1 pixels. 1: the
+    plain label, every shift. Default 3, measured (doc/detector.md, "Search"): with 1, a view
+    between two coarse templates (15 % scale, 20 degrees) is rejected everywhere; with 3 and a
+    stride of 2 (9 instead of 25 samples per template) the rendered scenes keep every hit with
+    fewer candidates and more rejection. */
+    CV_PROP_RW int dominant_window;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
@@ -82,12 +115,15 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_PROP double t_valid_ms;       //!< validation + pyramid refinement (paper: T_valid)
     CV_PROP double t_total_ms;       //!< the whole call
     CV_PROP int64 locations;         //!< locations visited on the coarsest level
-    CV_PROP int64 rejected;          //!< locations a background rejector sent out
+    CV_PROP int64 rejected;          //!< locations rejected before validation (all causes)
+    CV_PROP int64 rejected_flat;     //!< of which: window nearly without labels (before the forest)
+    CV_PROP int64 rejected_depth_range; //!< of which: scene depth outside the templates' range
     CV_PROP int64 validated;         //!< locations that reached validation with candidates
     CV_PROP int64 candidates;        //!< candidate templates validated, summed over locations
     CV_PROP std::vector<int64> rejected_at_depth; //!< rejected locations per forest depth
-    /** depth (forest) at which each coarse location was rejected, -1 when it was not; one
-    CV_16SC1 image per call of the coarsest level's grid, on request (Detector::match). */
+    /** depth (forest) at which each coarse location was rejected, -1 when it was not, -2 when
+    its window was flat, -3 when out of depth range; one CV_16SC1 image of the coarsest level's
+    location grid per call, on request (Detector::match). */
     Mat rejection_map;
     //! share of visited locations rejected before validation
     CV_WRAP double rejectedFraction() const { return locations ? double(rejected) / locations : 0; }
