@@ -346,9 +346,24 @@ static int templateAddImpl(Detector& self, std::vector<Ptr<Modality> >& modaliti
             if (l > 0)
                 qp->pyrDown();
             if (!qp->extractTemplate(tp[l * M + i]))
-                return -1;
+            {
+                // a white, grey or black object has no hue: it is learned by the other
+                // modalities (ColorHue alone refuses it, as cv::linemod expects)
+                if (modalities[i]->name() != "ColorHue")
+                    return -1;
+                tp[l * M + i].features.clear();
+                tp[l * M + i].pyramid_level = l;
+            }
         }
         qp->quantize(coarse_quantized[i]);
+    }
+    for (int l = 0; l < pyramid_levels; ++l)
+    {
+        size_t n = 0;
+        for (int i = 0; i < M; ++i)
+            n += tp[l * M + i].features.size();
+        if (n == 0)
+            return -1; // no modality found features at this level
     }
     const Rect bb = cropTemplatePyramid(tp);
     if (bounding_box)

@@ -230,6 +230,33 @@ TEST(Forestmod_Detector, more_than_63_features_and_single_modality)
     EXPECT_LE(cv::norm(c2 - Point(300, 200)), 12.0);
 }
 
+TEST(Forestmod_Detector, object_without_hue_is_learned_by_the_other_modalities)
+{
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(gradient());
+    mods.push_back(ColorHue::create());
+    cv::forestmod::Detector det(mods, Tpyr());
+    Mat img = Mat::zeros(480, 640, CV_8UC3), mask = Mat::zeros(480, 640, CV_8U);
+    rectangle(img, Rect(250, 180, 120, 90), Scalar(235, 235, 235), FILLED); // white box
+    rectangle(mask, Rect(250, 180, 120, 90), Scalar(255), FILLED);
+    const int id = det.addTemplate(std::vector<Mat>(2, img), "white", mask);
+    ASSERT_EQ(0, id);
+    const std::vector<linemod::Template>& t = det.getTemplates("white", 0);
+    EXPECT_GT(t[0].features.size(), 0u); // gradient
+    EXPECT_EQ(0u, t[1].features.size()); // hue
+    RNG rng(8);
+    Mat scene = clutter(Size(640, 480), rng);
+    rectangle(scene, Rect(100, 200, 120, 90), Scalar(235, 235, 235), FILLED);
+    std::vector<linemod::Match> matches;
+    det.match(std::vector<Mat>(2, scene), 80.f, matches);
+    ASSERT_FALSE(matches.empty());
+    EXPECT_LE(std::abs(matches[0].x + t[0].width / 2 - 160), 8);
+    EXPECT_LE(std::abs(matches[0].y + t[0].height / 2 - 245), 8);
+    // a template of nothing at all is still refused
+    EXPECT_EQ(-1, det.addTemplate(std::vector<Mat>(2, Mat::zeros(480, 640, CV_8UC3)), "none",
+                                  mask));
+}
+
 TEST(Forestmod_Detector, any_image_size)
 {
     std::vector<Ptr<linemod::Modality> > mods(1, gradient());

@@ -25,6 +25,9 @@ As the other LINEMOD modalities, the quantized image holds one bit per pixel, `1
 cv::linemod::Feature::label is the bin (0..7). The hue circle is circular like LINEMOD's
 orientation circle, so the similarity of cv::linemod (4 for the same bin, 3 for a neighbour, ...,
 0 for the opposite colour) applies as it is: ColorHue works inside a plain cv::linemod::Detector.
+A template of an object without reliable hue (white, grey, black) has no hue features:
+extractTemplate() returns false, so cv::linemod::Detector refuses it (as ColorGradient refuses a
+template with too few gradients); forestmod::Detector learns it from its other modalities.
 Note that cv::linemod::Modality::create(const FileNode&) only knows LINEMOD's own modalities, so
 cv::linemod::Detector::read() cannot restore a ColorHue; cv::forestmod's own I/O can.
 */
