@@ -142,16 +142,6 @@ PERF_TEST_P(Forestmod_Match, vga_rgbd, Combine(DetectorKind::all(), Values(1, 8)
         addAll(det, set);
         det.train();
         TEST_CYCLE() det.match(src, 80.f, matches);
-        if (getenv("DBG_STATS"))
-        {
-            DetectionStats st;
-            for (int i = 0; i < 5; ++i)
-                det.match(src, 80.f, matches, std::vector<String>(), noArray(), std::vector<Mat>(), &st);
-            printf("quant %.1f tree %.1f valid %.1f total %.1f | loc %lld rej %lld validated %lld cands %lld\n",
-                   st.t_quantize_ms / 5, st.t_tree_ms / 5, st.t_valid_ms / 5, st.t_total_ms / 5,
-                   (long long)st.locations / 5, (long long)st.rejected / 5, (long long)st.validated / 5,
-                   (long long)st.candidates / 5);
-        }
     }
     ASSERT_FALSE(matches.empty());
     SANITY_CHECK_NOTHING();
