@@ -40,12 +40,14 @@ static const char* keys
       "{synthetic       | 0        | N > 0: evaluate on N rendered RGB-D scenes per object instead "
       "of the dataset's frames (ADD/ADI) }"
       "{rgb_only        |          | ignore the dataset's depth (RGB-only evaluation) }"
+      "{modalities      |          | comma-separated ColorGradient, DepthNormal, ColorHue (default: "
+      "ColorGradient,ColorHue; with depth ColorGradient,DepthNormal,ColorHue) }"
       "{threshold       | 80       | similarity threshold (percent) of both detectors }"
       "{level           | 1        | view sampler: icosahedron subdivisions (1: ~32 deg, 2: ~16 deg) }"
       "{min_elevation   | -15      | view sampler: lowest elevation (degrees) }"
       "{max_elevation   | 90       | view sampler: highest elevation (degrees) }"
-      "{radii           | 600,900,1300 | view sampler: camera distances (mm) }"
-      "{inplane         | -90,90,30 | view sampler: in-plane rotations min,max,step (degrees) }"
+      "{radii           | 700,1100 | view sampler: camera distances (mm) }"
+      "{inplane         | -60,60,30 | view sampler: in-plane rotations min,max,step (degrees) }"
       "{no_multi        |          | skip Table 2 (all objects in one model) }"
       "{cache           |          | template cache folder (default: <build>/forestmod_cache) }"
       "{json            |          | write the results as JSON to this file }"
@@ -348,6 +350,12 @@ static cv::Ptr<fm::Detector> objectTemplates(ObjectInfo& obj, const TemplateSetu
             det = makeDetector(setup.modalities);
         }
     }
+    const std::string none_file = obj.cache_file + ".none";
+    if (cv::utils::fs::exists(none_file))
+    {
+        obj.templates = 0;
+        return cv::Ptr<fm::Detector>();
+    }
     cv::TickMeter tm;
     tm.start();
     renderObjectTemplates(*det, obj, setup, S, progress);
@@ -355,7 +363,11 @@ static cv::Ptr<fm::Detector> objectTemplates(ObjectInfo& obj, const TemplateSetu
     render_s = tm.getTimeSec();
     obj.templates = det->numTemplates(obj.class_id);
     if (obj.templates == 0)
-        CV_Error_(cv::Error::StsError, ("no template of %s has features", obj.name.c_str()));
+    {
+        // every view lacks features of some modality (e.g. ColorHue on a white object)
+        std::ofstream(none_file.c_str()) << "no template\n";
+        return cv::Ptr<fm::Detector>();
+    }
     det->save(obj.cache_file, true); // untrained: the forest is trained per experiment
     return det;
 }
@@ -520,6 +532,11 @@ static cv::Mat heatmapImage(const cv::Mat& frame, const cv::Mat& map, int max_de
     return out;
 }
 
+static std::string heatFile(const std::string& dir, const char* model, const EvalFrame& f)
+{
+    return cv::format("%s/heatmap_%s_%06d_%06d.png", dir.c_str(), model, f.scene_id, f.im_id);
+}
+
 // ---------------------------------------------------------------------------------------------
 // running the detectors
 
@@ -550,7 +567,8 @@ object_index >= 0: only the frames of that object (--synthetic). heat: rejection
 first frames, when not null. */
 static void runForestmod(const fm::Detector& det, const std::vector<ObjectInfo*>& objs,
                          int object_index, const RunContext& ctx, const std::string& label,
-                         std::vector<Result>& res, std::vector<cv::Mat>* heat, int heat_frames)
+                         std::vector<Result>& res, std::vector<std::pair<int, cv::Mat> >* heat,
+                         int heat_frames)
 {
     const std::vector<cv::Ptr<cv::linemod::Modality> > mods = det.getModalities();
     int k = 0;
@@ -568,7 +586,7 @@ static void runForestmod(const fm::Detector& det, const std::vector<ObjectInfo*>
                   std::vector<cv::Mat>(), &stats);
         tm.stop();
         if (heat && k < heat_frames)
-            heat->push_back(stats.rejection_map.clone());
+            heat->push_back(std::make_pair((int)i, stats.rejection_map.clone()));
         for (size_t o = 0; o < objs.size(); ++o)
         {
             Result& r = res[o];
@@ -740,6 +758,7 @@ int main(int argc, char** argv)
     const std::string inplane_arg = parser.get<std::string>("inplane");
     std::string cache_dir = parser.get<std::string>("cache");
     const std::string json_path = parser.get<std::string>("json");
+    const std::vector<std::string> modalities_arg = splitList(parser.get<std::string>("modalities"));
     const std::string heat_dir = parser.get<std::string>("heatmap");
     const int heat_frames = parser.get<int>("heatmap_frames");
     const int threads = parser.get<int>("threads");
@@ -867,10 +886,30 @@ int main(int argc, char** argv)
         for (size_t i = 0; i < nuse; ++i)
             all_depth = all_depth && !dframes[i].depth_path.empty();
         const bool use_depth = synthetic > 0 || (all_depth && !parser.has("rgb_only"));
-        setup.modalities.push_back("ColorGradient");
-        if (use_depth)
-            setup.modalities.push_back("DepthNormal");
-        setup.modalities.push_back("ColorHue");
+        if (modalities_arg.empty())
+        {
+            setup.modalities.push_back("ColorGradient");
+            if (use_depth)
+                setup.modalities.push_back("DepthNormal");
+            setup.modalities.push_back("ColorHue");
+        }
+        for (size_t i = 0; i < modalities_arg.size(); ++i)
+        {
+            const std::string& m = modalities_arg[i];
+            if (m != "ColorGradient" && m != "DepthNormal" && m != "ColorHue")
+            {
+                std::cerr << "forestmod_eval: unknown modality '" << m << "' (ColorGradient, "
+                             "DepthNormal, ColorHue)\n";
+                return 1;
+            }
+            if (m == "DepthNormal" && !use_depth)
+            {
+                std::cerr << "forestmod_eval: DepthNormal needs depth (the frames have none, or "
+                             "--rgb_only)\n";
+                return 1;
+            }
+            setup.modalities.push_back(m);
+        }
 
         if (synthetic == 0)
             for (size_t i = 0; i < nuse; ++i)
@@ -927,12 +966,23 @@ int main(int argc, char** argv)
         }
 
         // outputs that must not be overwritten
+        // heat maps: the first object's model (1 tree) on its first frames, and the model of all
+        // objects (5 trees); the files are named after the frame
         std::vector<std::string> heat_files;
         if (!heat_dir.empty())
         {
-            for (size_t i = 0; i < frames.size() && (int)heat_files.size() < heat_frames; ++i)
-                heat_files.push_back(cv::format("%s/heatmap_%06d_%06d.png", heat_dir.c_str(),
-                                                frames[i].scene_id, frames[i].im_id));
+            for (size_t i = 0; i < frames.size(); ++i)
+            {
+                bool first = false;
+                int rank = 0; // position among the frames of the object the scene was made for
+                for (size_t j = 0; j < i; ++j)
+                    rank += frames[j].owner == frames[i].owner;
+                first = rank < heat_frames;
+                if (first && frames[i].owner <= 0) // the first object's frames (all when real)
+                    heat_files.push_back(heatFile(heat_dir, "single", frames[i]));
+                if (i < (size_t)heat_frames && multi)
+                    heat_files.push_back(heatFile(heat_dir, "all", frames[i]));
+            }
             for (size_t i = 0; i < heat_files.size(); ++i)
                 if (cv::utils::fs::exists(heat_files[i]) && !force)
                 {
@@ -996,11 +1046,18 @@ int main(int argc, char** argv)
         // ---- Table 1: one object per model
         std::vector<Result> r1(objects.size()), r5(objects.size()), rl(objects.size());
         std::vector<double> train1(objects.size()), train5(objects.size()), render(objects.size());
-        std::vector<cv::Mat> heat;
+        std::vector<std::pair<int, cv::Mat> > heat_single, heat_all;
+        std::vector<std::string> skipped;
         for (size_t o = 0; o < objects.size(); ++o)
         {
             ObjectInfo& obj = objects[o];
             cv::Ptr<fm::Detector> det = objectTemplates(obj, setup, cache_dir, progress, render[o]);
+            if (!det)
+            {
+                skipped.push_back(obj.name);
+                progress.done += 3 * frames_per_object;
+                continue;
+            }
             std::vector<ObjectInfo*> one(1, &obj);
             const int oi = synthetic > 0 ? (int)o : -1;
             fm::DetectorParams p = det->getParams();
@@ -1015,16 +1072,40 @@ int main(int argc, char** argv)
                 tm.stop();
                 (trees == 1 ? train1 : train5)[o] = tm.getTimeSec();
                 std::vector<Result> rr(1);
-                const bool want_heat = !multi && o == 0 && trees == 5 && !heat_files.empty();
+                const bool want_heat = !heat_dir.empty() && o == 0 && trees == 1;
                 runForestmod(*det, one, oi, ctx,
                              cv::format("%s: forestmod %d tree(s)", obj.name.c_str(), trees), rr,
-                             want_heat ? &heat : 0, heat_frames);
+                             want_heat ? &heat_single : 0, heat_frames);
                 (trees == 1 ? r1 : r5)[o] = rr[0];
             }
             cv::Ptr<cv::linemod::Detector> lm = linemodCopy(*det);
             std::vector<Result> rr(1);
             runLinemod(*lm, *det, one, oi, ctx, obj.name + ": cv::linemod", rr);
             rl[o] = rr[0];
+        }
+
+        // objects without templates are left out from here on
+        {
+            size_t k = 0;
+            for (size_t o = 0; o < objects.size(); ++o)
+                if (objects[o].templates > 0)
+                {
+                    objects[k] = objects[o];
+                    r1[k] = r1[o];
+                    r5[k] = r5[o];
+                    rl[k] = rl[o];
+                    train1[k] = train1[o];
+                    train5[k] = train5[o];
+                    render[k] = render[o];
+                    ++k;
+                }
+            objects.resize(k);
+            if (objects.empty())
+            {
+                progress.finish();
+                std::cerr << "forestmod_eval: no object has a template with these modalities\n";
+                return 1;
+            }
         }
 
         // ---- Table 2: every object in one model (forestmod 5 trees vs cv::linemod)
@@ -1060,7 +1141,7 @@ int main(int argc, char** argv)
             for (size_t o = 0; o < objects.size(); ++o)
                 all.push_back(&objects[o]);
             runForestmod(*det, all, -1, ctx, "all objects: forestmod 5 trees", m5o,
-                         heat_files.empty() ? 0 : &heat, heat_frames);
+                         heat_dir.empty() ? 0 : &heat_all, heat_frames);
             cv::Ptr<cv::linemod::Detector> lm = linemodCopy(*det);
             runLinemod(*lm, *det, all, -1, ctx, "all objects: cv::linemod", mlo);
             m5 = pooled(m5o);
@@ -1069,19 +1150,26 @@ int main(int argc, char** argv)
         progress.finish();
 
         // heat maps
-        for (size_t i = 0; i < heat.size() && i < heat_files.size(); ++i)
+        for (int kind = 0; kind < 2; ++kind)
         {
-            int max_depth = 1;
-            double mx = 0;
-            cv::minMaxLoc(heat[i], 0, &mx);
-            max_depth = std::max(1, (int)mx);
-            const cv::Mat img = heatmapImage(frames[i].rgb, heat[i], max_depth);
-            if (!cv::imwrite(heat_files[i], img))
-                CV_Error_(cv::Error::StsError, ("cannot write %s", heat_files[i].c_str()));
+            const std::vector<std::pair<int, cv::Mat> >& heat = kind ? heat_all : heat_single;
+            for (size_t i = 0; i < heat.size(); ++i)
+            {
+                const EvalFrame& f = frames[heat[i].first];
+                double mx = 0;
+                cv::minMaxLoc(heat[i].second, 0, &mx);
+                const std::string file = heatFile(heat_dir, kind ? "all" : "single", f);
+                if (!cv::imwrite(file, heatmapImage(f.rgb, heat[i].second, std::max(1, (int)mx))))
+                    CV_Error_(cv::Error::StsError, ("cannot write %s", file.c_str()));
+            }
         }
 
         // ---- tables
         printf("## Table 1: one object per model\n\n");
+        for (size_t i = 0; i < skipped.size(); ++i)
+            printf("- %s: left out, no view gave a template (every modality needs features: "
+                   "ColorHue finds none on an unsaturated object)\n%s", skipped[i].c_str(),
+                   i + 1 == skipped.size() ? "\n" : "");
         printf("| object | detector | templates | T_tree | T_valid | T_quant | T_total | 2D IoU "
                ">= 0.5 | proj < 5 px | ADD/ADI < 0.1 d | rejected |\n");
         printf("|---|---|---|---|---|---|---|---|---|---|---|\n");

@@ -293,10 +293,22 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
     fs.release();
 
     // heat maps next to the frames
-    cv::Mat heat = cv::imread(dir + "/heat/heatmap_000001_000000.png", cv::IMREAD_COLOR);
-    ASSERT_FALSE(heat.empty());
-    EXPECT_EQ(2 * 640, heat.cols);
-    EXPECT_GE(heat.rows, 480);
+    const char* models[] = { "single", "all" };
+    for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < 3; ++i)
+        {
+            const std::string file = cv::format("%s/heat/heatmap_%s_000001_%06d.png", dir.c_str(),
+                                                models[k], i);
+            if (i == 2) // --heatmap_frames=2
+            {
+                EXPECT_FALSE(cv::utils::fs::exists(file)) << file;
+                continue;
+            }
+            cv::Mat heat = cv::imread(file, cv::IMREAD_COLOR);
+            ASSERT_FALSE(heat.empty()) << file;
+            EXPECT_EQ(2 * 640, heat.cols);
+            EXPECT_GE(heat.rows, 480);
+        }
 
     // a second run finds the templates in the cache, and refuses to overwrite the outputs
     std::string out2, err2;
