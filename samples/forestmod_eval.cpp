@@ -35,15 +35,17 @@ static const char* keys
       "{dataset         |          | BOP dataset root (camera.json, models/, <split>/) }"
       "{split           | test     | split folder }"
       "{scene           | 2        | scene id }"
-      "{objects         |          | comma-separated object ids (default: every model with a mesh) }"
+      "{objects         |          | comma-separated object ids (default: every model with a "
+      "mesh) }"
       "{frames          | 0        | frames to use (0: all) }"
       "{synthetic       | 0        | N > 0: evaluate on N rendered RGB-D scenes per object instead "
       "of the dataset's frames (ADD/ADI) }"
       "{rgb_only        |          | ignore the dataset's depth (RGB-only evaluation) }"
-      "{modalities      |          | comma-separated ColorGradient, DepthNormal, ColorHue (default: "
-      "ColorGradient,ColorHue; with depth ColorGradient,DepthNormal,ColorHue) }"
+      "{modalities      |          | comma-separated ColorGradient, DepthNormal, ColorHue "
+      "(default: ColorGradient,ColorHue; with depth ColorGradient,DepthNormal,ColorHue) }"
       "{threshold       | 80       | similarity threshold (percent) of both detectors }"
-      "{level           | 1        | view sampler: icosahedron subdivisions (1: ~32 deg, 2: ~16 deg) }"
+      "{level           | 1        | view sampler: icosahedron subdivisions (1: ~32 deg, "
+      "2: ~16 deg) }"
       "{min_elevation   | -15      | view sampler: lowest elevation (degrees) }"
       "{max_elevation   | 90       | view sampler: highest elevation (degrees) }"
       "{radii           | 700,1100 | view sampler: camera distances (mm) }"
@@ -713,6 +715,32 @@ static std::string mdRow(const std::string& name, const std::string& det, int te
                       pct(addRate(r)).c_str(), pct(rejectedFraction(r)).c_str());
 }
 
+/** The mean row of Table 1: times are the mean of the per-object medians, accuracy is pooled
+over every (frame, object) pair, the rejected share over every location. */
+static std::string meanRow(const std::string& det, const std::vector<Result>& rs)
+{
+    double tree = 0, valid = 0, quant = 0, total = 0;
+    int64 locations = 0, rejected = 0;
+    for (size_t o = 0; o < rs.size(); ++o)
+    {
+        tree += tTree(rs[o]);
+        valid += tValid(rs[o]);
+        quant += median(rs[o].quant);
+        total += tTotal(rs[o]);
+        locations += rs[o].locations;
+        rejected += rs[o].rejected;
+    }
+    const double n = (double)rs.size();
+    const Result p = pooled(rs);
+    const double rej = p.has_forest && locations > 0 ? double(rejected) / locations
+                                                     : std::numeric_limits<double>::quiet_NaN();
+    return cv::format("| **mean** | %s | - | %s | %s | %s | %s | %s | %s | %s | %s |\n",
+                      det.c_str(), num(tree / n).c_str(), num(valid / n).c_str(),
+                      num(quant / n).c_str(), num(total / n).c_str(),
+                      pct(ratio(p.ok2d, p.n2d)).c_str(), pct(ratio(p.okproj, p.n2d)).c_str(),
+                      pct(addRate(p)).c_str(), pct(rej).c_str());
+}
+
 static std::string jsonResult(const Result& r)
 {
     return cv::format("{\"t_total_ms\": %s, \"t_tree_ms\": %s, \"t_valid_ms\": %s, "
@@ -758,7 +786,8 @@ int main(int argc, char** argv)
     const std::string inplane_arg = parser.get<std::string>("inplane");
     std::string cache_dir = parser.get<std::string>("cache");
     const std::string json_path = parser.get<std::string>("json");
-    const std::vector<std::string> modalities_arg = splitList(parser.get<std::string>("modalities"));
+    const std::vector<std::string> modalities_arg
+        = splitList(parser.get<std::string>("modalities"));
     const std::string heat_dir = parser.get<std::string>("heatmap");
     const int heat_frames = parser.get<int>("heatmap_frames");
     const int threads = parser.get<int>("threads");
@@ -776,8 +805,8 @@ int main(int argc, char** argv)
         return 1;
     }
     std::vector<double> inplane;
-    if (!parseNumbers(radii_arg, sp.radii) || sp.radii.empty() || !parseNumbers(inplane_arg, inplane)
-        || inplane.size() != 3)
+    if (!parseNumbers(radii_arg, sp.radii) || sp.radii.empty()
+        || !parseNumbers(inplane_arg, inplane) || inplane.size() != 3)
     {
         std::cerr << "forestmod_eval: --radii is a list of distances (mm), --inplane min,max,step "
                      "(degrees)\n";
@@ -1011,13 +1040,14 @@ int main(int argc, char** argv)
                    "the other meshes, backgrounds from %d frames of %s scene %d)\n",
                    synthetic, (int)nuse, root.c_str(), scene);
         else
-            printf("- data: %s, split %s, scene %d, %d frames\n", root.c_str(), split.c_str(), scene,
-                   (int)frames.size());
+            printf("- data: %s, split %s, scene %d, %d frames\n", root.c_str(), split.c_str(),
+                   scene, (int)frames.size());
         printf("- mode: %s; modalities %s; pyramid T = {5, 8}; threshold %.0f; %d OpenCV "
                "thread(s) while matching (cv::setNumThreads; %d while training the forests)\n",
                mode.c_str(), modnames.c_str(), threshold, threads, train_threads);
         printf("- templates (the same for every detector): level %d, elevation %.0f..%.0f deg, "
-               "%d views x radii {%s} mm x in-plane %.0f..%.0f step %.0f deg = %d poses per object\n",
+               "%d views x radii {%s} mm x in-plane %.0f..%.0f step %.0f deg = %d poses per "
+               "object\n",
                sp.level, sp.min_elevation, sp.max_elevation, (int)sampler.viewpoints().size(),
                radii_arg.c_str(), sp.inplane_min, sp.inplane_max, sp.inplane_step, sampler.size());
         printf("- times: median ms per frame of the whole match() call (T_total includes the "
@@ -1121,7 +1151,8 @@ int main(int argc, char** argv)
             {
                 cv::FileStorage fs(objects[o].cache_file, cv::FileStorage::READ);
                 if (!fs.isOpened())
-                    CV_Error_(cv::Error::StsError, ("cannot read %s", objects[o].cache_file.c_str()));
+                    CV_Error_(cv::Error::StsError,
+                              ("cannot read %s", objects[o].cache_file.c_str()));
                 cv::FileNode classes = fs["classes"];
                 for (cv::FileNodeIterator it = classes.begin(); it != classes.end(); ++it)
                     det->readClass(*it);
@@ -1173,8 +1204,7 @@ int main(int argc, char** argv)
         printf("| object | detector | templates | T_tree | T_valid | T_quant | T_total | 2D IoU "
                ">= 0.5 | proj < 5 px | ADD/ADI < 0.1 d | rejected |\n");
         printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
-        Result avg1, avg5, avgl; // pooled accuracy, per-object median times averaged below
-        double s1 = 0, s5 = 0, sl = 0;
+        double s1 = 0, s5 = 0, sl = 0; // sums of the per-object median T_total
         for (size_t o = 0; o < objects.size(); ++o)
         {
             const ObjectInfo& obj = objects[o];
@@ -1186,55 +1216,22 @@ int main(int argc, char** argv)
             sl += tTotal(rl[o]);
         }
         const double n = (double)objects.size();
-        std::vector<Result> all1(r1), all5(r5), alll(rl);
-        avg1 = pooled(all1);
-        avg5 = pooled(all5);
-        avgl = pooled(alll);
-        {
-            // the average row: mean of the per-object medians, accuracy pooled over instances
-            double tr1 = 0, tr5 = 0, va1 = 0, va5 = 0, q1 = 0, q5 = 0, ql = 0;
-            int64 loc1 = 0, rej1 = 0, loc5 = 0, rej5 = 0;
-            for (size_t o = 0; o < objects.size(); ++o)
-            {
-                tr1 += tTree(r1[o]);
-                va1 += tValid(r1[o]);
-                tr5 += tTree(r5[o]);
-                va5 += tValid(r5[o]);
-                q1 += median(r1[o].quant);
-                q5 += median(r5[o].quant);
-                ql += median(rl[o].quant);
-                loc1 += r1[o].locations;
-                rej1 += r1[o].rejected;
-                loc5 += r5[o].locations;
-                rej5 += r5[o].rejected;
-            }
-            const char* fmt = "| **mean** | %s | - | %s | %s | %s | %s | %s | %s | %s | %s |\n";
-            printf(fmt, "forestmod, 1 tree", num(tr1 / n).c_str(), num(va1 / n).c_str(),
-                   num(q1 / n).c_str(), num(s1 / n).c_str(), pct(ratio(avg1.ok2d, avg1.n2d)).c_str(),
-                   pct(ratio(avg1.okproj, avg1.n2d)).c_str(), pct(addRate(avg1)).c_str(),
-                   pct(loc1 ? double(rej1) / loc1 : std::numeric_limits<double>::quiet_NaN()).c_str());
-            printf(fmt, "forestmod, 5 trees", num(tr5 / n).c_str(), num(va5 / n).c_str(),
-                   num(q5 / n).c_str(), num(s5 / n).c_str(), pct(ratio(avg5.ok2d, avg5.n2d)).c_str(),
-                   pct(ratio(avg5.okproj, avg5.n2d)).c_str(), pct(addRate(avg5)).c_str(),
-                   pct(loc5 ? double(rej5) / loc5 : std::numeric_limits<double>::quiet_NaN()).c_str());
-            printf(fmt, "cv::linemod", "-", "-", "-", num(sl / n).c_str(),
-                   pct(ratio(avgl.ok2d, avgl.n2d)).c_str(), pct(ratio(avgl.okproj, avgl.n2d)).c_str(),
-                   pct(addRate(avgl)).c_str(), "-");
-        }
+        printf("%s", meanRow("forestmod, 1 tree", r1).c_str());
+        printf("%s", meanRow("forestmod, 5 trees", r5).c_str());
+        printf("%s", meanRow("cv::linemod", rl).c_str());
         printf("\nTemplate rendering (cold cache, s) / forest training 1 tree / 5 trees (s):");
         for (size_t o = 0; o < objects.size(); ++o)
-            printf(" %s %.1f/%.1f/%.1f%s", objects[o].name.c_str(), render[o], train1[o], train5[o],
-                   o + 1 < objects.size() ? "," : "\n");
-
+            printf(" %s %.1f/%.1f/%.1f%s", objects[o].name.c_str(), render[o], train1[o],
+                   train5[o], o + 1 < objects.size() ? "," : "\n");
         const double speedup_single = sl / s5;
         double growth_fm = std::numeric_limits<double>::quiet_NaN(), growth_lm = growth_fm,
                speedup_multi = growth_fm;
         if (multi)
         {
-            printf("\n## Table 2: all %d objects in one model (%d templates, forest training %.1f s)"
-                   "\n\n", (int)objects.size(), multi_templates, multi_train);
-            printf("| object | detector | templates | T_tree | T_valid | T_quant | T_total | 2D IoU "
-                   ">= 0.5 | proj < 5 px | ADD/ADI < 0.1 d | rejected |\n");
+            printf("\n## Table 2: all %d objects in one model (%d templates, forest training "
+                   "%.1f s)\n\n", (int)objects.size(), multi_templates, multi_train);
+            printf("| object | detector | templates | T_tree | T_valid | T_quant | T_total | "
+                   "2D IoU >= 0.5 | proj < 5 px | ADD/ADI < 0.1 d | rejected |\n");
             printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
             printf("%s", mdRow("**all**", "forestmod, 5 trees", multi_templates, m5).c_str());
             printf("%s", mdRow("**all**", "cv::linemod", multi_templates, ml).c_str());

@@ -176,7 +176,8 @@ static void makeDataset(const std::string& root, int frames)
             gt_json += cv::format("%s{\"cam_R_m2c\": %s, \"cam_t_m2c\": %s, \"obj_id\": %d}",
                                   k ? ", " : "", jsonList(R[k].val, 9).c_str(),
                                   jsonList(t[k].val, 3).c_str(), k + 1);
-            info_json += cv::format("%s{\"bbox_obj\": %s, \"bbox_visib\": %s, \"visib_fract\": %.4f}",
+            info_json += cv::format("%s{\"bbox_obj\": %s, \"bbox_visib\": %s, "
+                                    "\"visib_fract\": %.4f}",
                                     k ? ", " : "", jsonList(b, 4).c_str(), jsonList(b, 4).c_str(),
                                     double(visible) / all);
         }
