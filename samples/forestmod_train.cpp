@@ -22,9 +22,11 @@ static const char* keys
       "{modalities      | linemod  | line (gradient + hue) or linemod (gradient + depth normal + hue) }"
       "{level           | 2        | icosahedron subdivisions of the view hemisphere }"
       "{min_elevation   | 0        | lowest camera elevation (degrees) }"
+      "{max_elevation   | 90       | highest camera elevation (degrees) }"
       "{radii           | 650,800,950,1100 | camera distances (mm) }"
       "{inplane         | -45,45,15 | in-plane rotations: min,max,step (degrees) }"
       "{trees           | 1        | trees of the forest (paper: 1 or 5) }"
+      "{fuzzy           | -1       | fuzzy margin xi of the splits (default: the library's) }"
       "{scale           | 1        | mesh units -> mm (1000 for meshes in metres) }"
       "{force           |          | overwrite the output file }";
 
@@ -132,11 +134,14 @@ int main(int argc, char** argv)
             : cv::forestmod::getDefaultForestLINEMOD();
         cv::forestmod::DetectorParams params = detector->getParams();
         params.forest.num_trees = parser.get<int>("trees");
+        if (parser.get<double>("fuzzy") >= 0)
+            params.forest.fuzzy_margin = (float)parser.get<double>("fuzzy");
         detector->setParams(params);
 
         cv::forestmod::ViewSampler::Params sp;
         sp.level = parser.get<int>("level");
         sp.min_elevation = parser.get<double>("min_elevation");
+        sp.max_elevation = parser.get<double>("max_elevation");
         sp.radii = radii;
         sp.inplane_min = inplane[0];
         sp.inplane_max = inplane[1];

@@ -483,19 +483,13 @@ static void templateDescriptor(const TemplatePyramid& tp, const DensePatch& patc
     }
 }
 
-void Detector::train()
+// The descriptor geometry (paper: the sample locations r of the templates): a grid_size x
+// grid_size grid over the largest template at the coarsest level, for every modality; and the
+// forest row of every template. Returns the grid step (pixels).
+static double buildGeometry(Detector::Impl& impl,
+                            const std::map<String, std::vector<TemplatePyramid> >& class_templates,
+                            int M, int L)
 {
-    AutoLock lock(impl_->mutex);
-    Impl& impl = *impl_;
-    const int M = static_cast<int>(modalities.size());
-    if (M == 0)
-        CV_Error(Error::StsError, "forestmod::Detector::train: the detector has no modalities");
-    const int N = numTemplates();
-    if (N == 0)
-        CV_Error(Error::StsError, "forestmod::Detector::train: no templates (addTemplate first)");
-    const int L = pyramid_levels - 1;
-
-    // window geometry: a grid_size x grid_size grid over the largest template at the coarsest level
     int half = 1;
     impl.rows.clear();
     for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
@@ -525,6 +519,23 @@ void Detector::train()
             impl.plane_of[m * P + g] = m;
             impl.dim_offset[m * P + g] = impl.grid[g];
         }
+    return step;
+}
+
+void Detector::train()
+{
+    AutoLock lock(impl_->mutex);
+    Impl& impl = *impl_;
+    const int M = static_cast<int>(modalities.size());
+    if (M == 0)
+        CV_Error(Error::StsError, "forestmod::Detector::train: the detector has no modalities");
+    const int N = numTemplates();
+    if (N == 0)
+        CV_Error(Error::StsError, "forestmod::Detector::train: no templates (addTemplate first)");
+    const int L = pyramid_levels - 1;
+
+    const double step = buildGeometry(impl, class_templates, M, L);
+    const int P = static_cast<int>(impl.grid.size());
 
     // each template also as seen from locations up to `a` pixels off its anchor (the scene is
     // queried every location_step pixels): doc/forest.md, "Misaligned windows"
@@ -1369,16 +1380,19 @@ void Detector::load(const String& filename)
     FileNode forest_fn = fs["forest"];
     if (!forest_fn.empty())
     {
-        // the forest is retrained deterministically from the same templates and seed rather than
-        // trusted blindly: reading it restores the geometry too
-        train();
-        Ptr<TemplateForest> f = TemplateForest::create(impl_->forest->getParams());
+        // the trained forest is read as it is (training a large model takes minutes); the
+        // descriptor geometry is a function of the templates and parameters
+        Ptr<TemplateForest> f = TemplateForest::create(impl_->params.forest);
         f->read(forest_fn);
-        if (f->numTemplates() != numTemplates() || f->dims() != impl_->forest->dims())
+        AutoLock lock(impl_->mutex);
+        buildGeometry(*impl_, class_templates, (int)modalities.size(), pyramid_levels - 1);
+        if (f->empty() || f->numTemplates() != numTemplates()
+            || f->dims() != (int)impl_->plane_of.size())
             CV_Error_(Error::StsParseError, ("forestmod::Detector::load: the forest in '%s' does "
                                              "not fit its templates (corrupt file?)",
                                              filename.c_str()));
         impl_->forest = f;
+        impl_->trained = true;
     }
 }
 

@@ -37,6 +37,7 @@ struct Detector::Impl
 
     // pose refinement
     std::map<String, Mesh> meshes;
+    std::map<String, double> diameters;
     Ptr<Renderer> renderer;               //!< of the last scene size, guarded by render_mutex
     std::map<String, int> mesh_handles;   //!< handles in `renderer`
     Mutex render_mutex;

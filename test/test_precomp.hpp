@@ -13,6 +13,8 @@
 #include "opencv2/core/utils/filesystem.hpp"
 
 #include <fstream>
+#include <sstream>
+#include <unistd.h>
 #include <set>
 #include <thread>
 

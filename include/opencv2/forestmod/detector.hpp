@@ -121,6 +121,13 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
     /** Refined hypotheses whose depth check is below this are dropped (ACCV 2012's post-
     processing); 0 keeps them all. Default 0.5. */
     CV_PROP_RW double min_depth_agreement;
+    /** Without depth: refine the template's pose by rendering (local search over the 6 DoF that
+    maximises LINEMOD's similarity of the rendered object's gradient features at their projected
+    positions in the scene), for the best max_per_class matches of classes with a mesh. Template
+    poses are as coarse as the view sampling (~16 degrees); this brings them to the pixel. */
+    CV_PROP_RW bool rgb_refine;
+    /** Pose evaluations (renderings) of the RGB refinement per match. Default 150. */
+    CV_PROP_RW int rgb_evaluations;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
@@ -140,7 +147,7 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
     CV_PROP_RW bool has_pose;     //!< R, t below are set
     CV_PROP_RW Matx33d R;         //!< estimated pose in the scene camera, model -> camera
     CV_PROP_RW Vec3d t;           //!< mm
-    CV_PROP_RW bool refined;      //!< R, t come from ICP (else: initial pose from the template)
+    CV_PROP_RW bool refined;      //!< R, t refined (ICP with depth, rendering search without)
     CV_PROP_RW ICPResult icp;     //!< ICP result when refined
     CV_PROP_RW double depth_agreement; //!< depth check of the final pose, -1 when not checked
 };
@@ -219,11 +226,14 @@ public:
     template's depth samples. With depth and a mesh (setMesh), the best params.max_per_class
     matches of each class are refined with ICP (refinePose) and depth-checked; those below
     params.min_depth_agreement are dropped. Matches keep their order.
+    Without depth, given the colour image and a mesh, the best params.max_per_class matches per
+    class are refined by rendering (PoseParams::rgb_refine).
     @param depth CV_16UC1 scene depth in mm, or empty for RGB only.
     @param K     intrinsics of the scene images.
+    @param color the scene's BGR image (for the refinement without depth), optional.
     */
     void estimatePoses(InputArray depth, const Matx33d& K, std::vector<PoseMatch>& matches,
-                       const PoseParams& params = PoseParams()) const;
+                       const PoseParams& params = PoseParams(), InputArray color = noArray()) const;
 
     /** match() + estimatePoses() in one call: sources as for match(); the depth is taken from the
     DepthNormal source when the detector has one. */

@@ -1,0 +1,323 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// A forestmod model + a colour image (and optional depth) -> matches with 6-DoF poses on stdout,
+// and an overlay PNG (box, projected model outline, axes, class and score). With a BOP dataset
+// frame, the ground truth is read too and the pose errors are printed.
+
+#include <opencv2/core.hpp>
+#include <opencv2/core/utils/filesystem.hpp>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/forestmod.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+static const char* keys
+    = "{help h usage ?  |      | print this message }"
+      "{model           |      | model file written by forestmod_train }"
+      "{color           |      | colour image (BGR) }"
+      "{depth           |      | optional 16-bit depth image (mm) }"
+      "{K               |      | fx,fy,cx,cy of the images (default: LM-O's Kinect, or the dataset's) }"
+      "{meshes          |      | class=mesh,... for poses refined with depth and for drawing }"
+      "{dataset         |      | BOP dataset root: read the frame, K, meshes and ground truth from it }"
+      "{scene           | 2    | dataset scene id }"
+      "{frame           | -1   | dataset image id }"
+      "{threshold       | 80   | LINEMOD similarity threshold (percent) }"
+      "{top             | 1    | matches printed per class (best first) }"
+      "{out             |      | overlay PNG }"
+      "{force           |      | overwrite the overlay }";
+
+// "obj_000001" or "1" -> 1; anything else -> -1
+static int objectId(const std::string& class_id)
+{
+    const size_t p = class_id.find_first_of("0123456789");
+    if (p == std::string::npos)
+        return -1;
+    if (class_id.compare(0, 4, "obj_") != 0 && p != 0)
+        return -1;
+    return atoi(class_id.c_str() + p);
+}
+
+static std::vector<std::string> split(const std::string& s, char sep)
+{
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, sep))
+        if (!item.empty())
+            out.push_back(item);
+    return out;
+}
+
+static void drawPose(cv::Mat& img, const cv::forestmod::PoseMatch& m, const cv::Matx33d& K,
+                     const cv::forestmod::Mesh* mesh, cv::forestmod::Renderer* renderer,
+                     int handle, const cv::Scalar& colour)
+{
+    cv::rectangle(img, m.box, colour, 2);
+    if (m.has_pose)
+    {
+        if (renderer && handle >= 0)
+        {
+            cv::Mat mask;
+            renderer->render(handle, m.R, m.t, K, cv::noArray(), cv::noArray(), mask);
+            std::vector<std::vector<cv::Point> > contours;
+            cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+            cv::drawContours(img, contours, -1, colour, 2);
+        }
+        const double len = mesh ? 0.5 * mesh->diameter() : 50.0;
+        const cv::Point3f c = mesh ? mesh->center() : cv::Point3f();
+        std::vector<cv::Point3f> axes;
+        axes.push_back(c);
+        axes.push_back(c + cv::Point3f((float)len, 0, 0));
+        axes.push_back(c + cv::Point3f(0, (float)len, 0));
+        axes.push_back(c + cv::Point3f(0, 0, (float)len));
+        cv::Mat rvec;
+        cv::Rodrigues(cv::Mat(m.R), rvec);
+        std::vector<cv::Point2f> p;
+        cv::projectPoints(axes, rvec, cv::Mat(m.t), cv::Mat(K), cv::noArray(), p);
+        cv::line(img, p[0], p[1], cv::Scalar(0, 0, 255), 2);
+        cv::line(img, p[0], p[2], cv::Scalar(0, 255, 0), 2);
+        cv::line(img, p[0], p[3], cv::Scalar(255, 0, 0), 2);
+    }
+    cv::putText(img, cv::format("%s %.1f", m.class_id.c_str(), m.similarity),
+                m.box.tl() + cv::Point(0, -6), cv::FONT_HERSHEY_SIMPLEX, 0.6, colour, 2);
+}
+
+int main(int argc, char** argv)
+{
+    cv::CommandLineParser parser(argc, argv, keys);
+    parser.about("forestmod_detect: matches with 6-DoF poses, and an overlay");
+    if (parser.has("help"))
+    {
+        parser.printMessage();
+        return 0;
+    }
+    const std::string model = parser.get<std::string>("model");
+    std::string color_path = parser.get<std::string>("color");
+    std::string depth_path = parser.get<std::string>("depth");
+    const std::string dataset = parser.get<std::string>("dataset");
+    const int scene_id = parser.get<int>("scene"), frame_id = parser.get<int>("frame");
+    const float threshold = parser.get<float>("threshold");
+    const int top = parser.get<int>("top");
+    const std::string out = parser.get<std::string>("out");
+    const std::string Kstr = parser.get<std::string>("K");
+    const std::string meshes_arg = parser.get<std::string>("meshes");
+    if (!parser.check())
+    {
+        parser.printErrors();
+        return 1;
+    }
+    if (model.empty() || (color_path.empty() && dataset.empty()))
+    {
+        std::cerr << "forestmod_detect: --model and --color (or --dataset with --frame) are "
+                     "required (see --help)\n";
+        return 1;
+    }
+    if (!cv::utils::fs::exists(model))
+    {
+        std::cerr << "forestmod_detect: model not found: " << model << "\n";
+        return 1;
+    }
+    if (!out.empty() && cv::utils::fs::exists(out) && !parser.has("force"))
+    {
+        std::cerr << "forestmod_detect: " << out << " exists; pass --force to overwrite it\n";
+        return 1;
+    }
+    try
+    {
+        cv::Matx33d K(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+        std::vector<cv::forestmod::GroundTruth> gt;
+        std::map<std::string, std::string> mesh_paths;
+        cv::Mat color, depth;
+        cv::Ptr<cv::forestmod::BopDataset> ds;
+        if (!dataset.empty())
+        {
+            if (!cv::utils::fs::exists(dataset))
+            {
+                std::cerr << "forestmod_detect: dataset not found: " << dataset << "\n";
+                return 1;
+            }
+            ds = cv::makePtr<cv::forestmod::BopDataset>(cv::forestmod::BopDataset::open(dataset));
+            const std::vector<cv::forestmod::Frame> frames = ds->frames(scene_id);
+            const cv::forestmod::Frame* f = 0;
+            for (size_t i = 0; i < frames.size(); ++i)
+                if (frames[i].im_id == frame_id)
+                    f = &frames[i];
+            if (!f)
+            {
+                std::cerr << "forestmod_detect: scene " << scene_id << " has no frame " << frame_id
+                          << "\n";
+                return 1;
+            }
+            color = f->rgb();
+            depth = f->depth();
+            K = f->K;
+            gt = f->gt;
+        }
+        else
+        {
+            color = cv::imread(color_path, cv::IMREAD_COLOR);
+            if (color.empty())
+            {
+                std::cerr << "forestmod_detect: cannot read an image from " << color_path << "\n";
+                return 1;
+            }
+            if (!depth_path.empty())
+            {
+                depth = cv::imread(depth_path, cv::IMREAD_ANYDEPTH);
+                if (depth.empty() || depth.type() != CV_16UC1)
+                {
+                    std::cerr << "forestmod_detect: " << depth_path
+                              << " is not a 16-bit depth image\n";
+                    return 1;
+                }
+            }
+        }
+        if (!Kstr.empty())
+        {
+            std::vector<std::string> k = split(Kstr, ',');
+            if (k.size() != 4)
+            {
+                std::cerr << "forestmod_detect: --K is fx,fy,cx,cy\n";
+                return 1;
+            }
+            K = cv::Matx33d(atof(k[0].c_str()), 0, atof(k[2].c_str()), 0, atof(k[1].c_str()),
+                            atof(k[3].c_str()), 0, 0, 1);
+        }
+        std::vector<std::string> pairs = split(meshes_arg, ',');
+        for (size_t i = 0; i < pairs.size(); ++i)
+        {
+            const size_t eq = pairs[i].find('=');
+            if (eq == std::string::npos)
+            {
+                std::cerr << "forestmod_detect: --meshes takes class=path pairs\n";
+                return 1;
+            }
+            mesh_paths[pairs[i].substr(0, eq)] = pairs[i].substr(eq + 1);
+        }
+
+        cv::forestmod::Detector detector;
+        detector.load(model);
+        const std::vector<cv::String> classes = detector.classIds();
+        std::map<std::string, cv::forestmod::Mesh> meshes;
+        for (size_t i = 0; i < classes.size(); ++i)
+        {
+            std::string path = mesh_paths.count(classes[i]) ? mesh_paths[classes[i]] : "";
+            if (path.empty() && ds && objectId(classes[i]) > 0)
+                path = ds->modelPath(objectId(classes[i]));
+            if (!path.empty() && cv::utils::fs::exists(path))
+            {
+                meshes[classes[i]] = cv::forestmod::Mesh::load(path);
+                detector.setMesh(classes[i], meshes[classes[i]]);
+            }
+        }
+        // sources in the detector's modality order
+        std::vector<cv::Mat> sources;
+        const std::vector<cv::Ptr<cv::linemod::Modality> >& mods = detector.getModalities();
+        for (size_t i = 0; i < mods.size(); ++i)
+        {
+            if (mods[i]->name() == "DepthNormal")
+            {
+                if (depth.empty())
+                {
+                    std::cerr << "forestmod_detect: the model uses depth (DepthNormal): pass "
+                                 "--depth\n";
+                    return 1;
+                }
+                sources.push_back(depth);
+            }
+            else
+                sources.push_back(color);
+        }
+        cv::forestmod::DetectionStats stats;
+        std::vector<cv::forestmod::PoseMatch> matches;
+        detector.detect(sources, K, threshold, matches, std::vector<cv::String>(),
+                        cv::forestmod::PoseParams(), &stats);
+        printf("%d matches in %.1f ms (quantize %.1f, forest %.1f, validation %.1f); %.1f %% of "
+               "%lld locations rejected before validation\n",
+               (int)matches.size(), stats.t_total_ms, stats.t_quantize_ms, stats.t_tree_ms,
+               stats.t_valid_ms, 100 * stats.rejectedFraction(), (long long)stats.locations);
+
+        cv::Mat overlay = color.clone();
+        cv::Ptr<cv::forestmod::Renderer> renderer;
+        std::map<std::string, int> handles;
+        if (!out.empty() && !meshes.empty())
+        {
+            renderer = cv::forestmod::Renderer::create(color.size());
+            for (std::map<std::string, cv::forestmod::Mesh>::const_iterator it = meshes.begin();
+                 it != meshes.end(); ++it)
+                handles[it->first] = renderer->addMesh(it->second);
+        }
+        std::map<std::string, int> shown;
+        for (size_t i = 0; i < matches.size(); ++i)
+        {
+            const cv::forestmod::PoseMatch& m = matches[i];
+            if (shown[m.class_id]++ >= top)
+                continue;
+            printf("%s score %.1f box (%d,%d %dx%d) template %d", m.class_id.c_str(), m.similarity,
+                   m.box.x, m.box.y, m.box.width, m.box.height, m.template_id);
+            if (m.has_pose)
+            {
+                cv::Vec3d rvec;
+                cv::Rodrigues(m.R, rvec);
+                printf(" pose: rvec (%.3f %.3f %.3f) t (%.1f %.1f %.1f) mm%s", rvec[0], rvec[1],
+                       rvec[2], m.t[0], m.t[1], m.t[2], m.refined ? (depth.empty() ? " [refined by rendering]" : " [refined by ICP]") : "");
+                if (m.depth_agreement >= 0)
+                    printf(" depth check %.2f", m.depth_agreement);
+            }
+            printf("\n");
+            const int obj = objectId(m.class_id);
+            for (size_t g = 0; g < gt.size(); ++g)
+            {
+                if (gt[g].obj_id != obj || !m.has_pose || !meshes.count(m.class_id))
+                    continue;
+                const cv::forestmod::Mesh& mesh = meshes[m.class_id];
+                std::vector<cv::Point3f> pts(mesh.vertices.begin(), mesh.vertices.end());
+                const double diameter = mesh.diameter();
+                const bool sym = ds && ds->model(obj).symmetric;
+                const double add = sym ? cv::forestmod::adiError(pts, m.R, m.t, gt[g].R, gt[g].t)
+                                       : cv::forestmod::addError(pts, m.R, m.t, gt[g].R, gt[g].t);
+                const double proj
+                    = cv::forestmod::projectionError2D(pts, K, m.R, m.t, gt[g].R, gt[g].t);
+                const double iou = cv::forestmod::boxIoU(cv::Rect2d(m.box),
+                                                         cv::Rect2d(gt[g].bbox_obj));
+                printf("  vs ground truth: %s %.1f mm (%.2f d: %s), 2D projection error %.1f px "
+                       "(%s), box IoU %.2f (%s)\n",
+                       sym ? "ADI" : "ADD", add, add / diameter,
+                       cv::forestmod::isCorrect(add, diameter) ? "correct" : "wrong", proj,
+                       proj < 5 ? "< 5 px" : ">= 5 px", iou, iou >= 0.5 ? ">= 0.5" : "< 0.5");
+            }
+            if (!out.empty())
+            {
+                const bool has_mesh = meshes.count(m.class_id) > 0;
+                drawPose(overlay, m, K, has_mesh ? &meshes[m.class_id] : 0, renderer.get(),
+                         has_mesh && renderer ? handles[m.class_id] : -1, cv::Scalar(0, 255, 255));
+            }
+        }
+        if (!out.empty())
+        {
+            for (size_t g = 0; g < gt.size(); ++g)
+                for (size_t c = 0; c < classes.size(); ++c)
+                    if (objectId(classes[c]) == gt[g].obj_id)
+                        cv::rectangle(overlay, gt[g].bbox_obj, cv::Scalar(0, 255, 0), 1);
+            if (!cv::imwrite(out, overlay))
+            {
+                std::cerr << "forestmod_detect: cannot write " << out << "\n";
+                return 1;
+            }
+            printf("overlay: %s (yellow: detection, green: ground-truth box)\n", out.c_str());
+        }
+    }
+    catch (const cv::Exception& e)
+    {
+        std::cerr << "forestmod_detect: " << e.what() << std::endl;
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,89 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The forestmod_detect sample on a shipped real LM-O frame (RGB only).
+
+#include "test_precomp.hpp"
+
+#include <cstdlib>
+
+namespace opencv_test { namespace {
+
+static std::string binDir()
+{
+    char buf[4096];
+    const ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
+    if (n <= 0)
+        return std::string();
+    buf[n] = 0;
+    std::string p(buf);
+    return p.substr(0, p.find_last_of('/'));
+}
+
+static std::string slurp(const std::string& path)
+{
+    std::ifstream f(path.c_str());
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+TEST(Forestmod_Samples, detect_finds_the_shipped_ape)
+{
+    applyTestTag(CV_TEST_TAG_LONG);
+    const std::string exe = binDir() + "/forestmod_detect";
+    if (!utils::fs::exists(exe))
+        throw SkipTestException("forestmod_detect is not built (BUILD_EXAMPLES=OFF)");
+    const std::string root = cvtest::findDataFile("lmo_mini/camera.json");
+    const std::string dataset = root.substr(0, root.find_last_of('/'));
+
+    // the demo's sampler, one distance (frame 224 shows the ape at 711 mm)
+    const Mesh ape = Mesh::load(dataset + "/models/obj_000001.ply");
+    ViewSampler::Params sp;
+    sp.level = 2;
+    sp.min_elevation = 0;
+    sp.max_elevation = 60;
+    sp.radii = std::vector<double>(1, 700.0);
+    sp.inplane_min = -180;
+    sp.inplane_max = 160;
+    sp.inplane_step = 20;
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    DetectorParams p = det->getParams();
+    p.forest.fuzzy_margin = 0.5f;
+    det->setParams(p);
+    const Matx33d K(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+    ASSERT_GT(det->addTemplates(ape, "obj_000001", ViewSampler(sp), K, Size(640, 480)), 1000);
+    det->train();
+    const std::string model = cv::tempfile(".yml.gz");
+    det->save(model);
+
+    const std::string out = cv::tempfile(".txt"), png = cv::tempfile(".png");
+    const std::string cmd = "'" + exe + "' --model='" + model + "' --dataset='" + dataset
+        + "' --scene=2 --frame=224 --out='" + png + "' > '" + out + "' 2>&1";
+    const int rc = std::system(cmd.c_str());
+    const std::string text = slurp(out);
+    std::remove(model.c_str());
+    std::remove(out.c_str());
+    EXPECT_EQ(0, rc) << text;
+    EXPECT_TRUE(utils::fs::exists(png)) << text;
+    std::remove(png.c_str());
+    // "... 2D projection error 4.6 px (< 5 px), box IoU 0.90 (>= 0.5)"
+    const size_t at = text.find("vs ground truth");
+    ASSERT_NE(std::string::npos, at) << text;
+    double proj = -1, iou = -1;
+    const size_t pe = text.find("2D projection error", at), bi = text.find("box IoU", at);
+    ASSERT_NE(std::string::npos, pe) << text;
+    ASSERT_NE(std::string::npos, bi) << text;
+    proj = atof(text.c_str() + pe + strlen("2D projection error"));
+    iou = atof(text.c_str() + bi + strlen("box IoU"));
+    EXPECT_GE(iou, 0.5) << text;
+    // Issue 7 also asks for a 2D projection error under 5 px. Poses from RGB-only templates are
+    // as coarse as the sampler (here 16 degrees, 20 degrees in-plane): that criterion is not met
+    // reliably yet and is reported, not asserted (the issue stays open on it).
+    std::cout << "[ INFO    ] frame 224: box IoU " << iou << ", 2D projection error " << proj
+              << " px" << std::endl;
+    EXPECT_GE(proj, 0.0) << text;
+}
+
+}} // namespace
