@@ -44,6 +44,8 @@ static const char* keys
       "{modalities      |          | comma-separated ColorGradient, DepthNormal, ColorHue "
       "(default: ColorGradient,ColorHue; with depth ColorGradient,DepthNormal,ColorHue) }"
       "{threshold       | 80       | similarity threshold (percent) of both detectors }"
+      "{rgb_refine      |          | without depth: refine the best match's pose by rendering "
+      "(PoseParams::rgb_refine; default: the template's pose, as the issue asks) }"
       "{level           | 1        | view sampler: icosahedron subdivisions (1: ~32 deg, "
       "2: ~16 deg) }"
       "{min_elevation   | -15      | view sampler: lowest elevation (degrees) }"
@@ -415,7 +417,8 @@ static cv::Rect2d projectedBox(const std::vector<cv::Point3f>& pts, const cv::Ma
 /** Scores the best hypothesis of an object in a frame. matches: the detector's output (sorted,
 best first); posedet: a forestmod::Detector with the same templates (pose labels, meshes). */
 static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm::Detector& posedet,
-                       const EvalFrame& f, const ObjectInfo& obj, bool use_depth, Result& res)
+                       const EvalFrame& f, const ObjectInfo& obj, bool use_depth,
+                       bool rgb_refine, Result& res)
 {
     const fm::GroundTruth* gt = 0;
     for (size_t i = 0; i < f.gt.size(); ++i)
@@ -427,6 +430,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     if (!gt)
         return;
     fm::PoseParams pp;
+    pp.rgb_refine = rgb_refine;
     // RGB: the best match; RGB-D: the best matches go through ICP and the depth check, the first
     // one left is the hypothesis (LINEMOD ACCV 2012's post-processing)
     const size_t keep = use_depth ? (size_t)pp.max_per_class : 1;
@@ -443,7 +447,8 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
         hyp.push_back(pm);
     }
     if (!hyp.empty())
-        posedet.estimatePoses(use_depth ? f.depth : cv::Mat(), f.K, hyp, pp);
+        posedet.estimatePoses(use_depth ? f.depth : cv::Mat(), f.K, hyp, pp,
+                              !use_depth && rgb_refine ? f.rgb : cv::Mat());
     const fm::PoseMatch* best = 0;
     for (size_t i = 0; i < hyp.size() && !best; ++i)
         if (hyp[i].has_pose)
@@ -547,6 +552,7 @@ struct RunContext
     std::vector<EvalFrame>* frames;
     float threshold;
     bool use_depth;
+    bool rgb_refine;
     Progress* progress;
 };
 
@@ -600,7 +606,7 @@ static void runForestmod(const fm::Detector& det, const std::vector<ObjectInfo*>
             r.quant.push_back(stats.t_quantize_ms);
             r.locations += stats.locations;
             r.rejected += stats.rejected;
-            scoreFrame(matches, det, f, *objs[o], ctx.use_depth, r);
+            scoreFrame(matches, det, f, *objs[o], ctx.use_depth, ctx.rgb_refine, r);
         }
         ++k;
         ctx.progress->step(cv::format("%s, frame %d", label.c_str(), k));
@@ -629,7 +635,7 @@ static void runLinemod(const cv::linemod::Detector& lm, const fm::Detector& pose
             Result& r = res[o];
             r.with_depth = ctx.use_depth;
             r.total.push_back(tm.getTimeMilli());
-            scoreFrame(matches, posedet, f, *objs[o], ctx.use_depth, r);
+            scoreFrame(matches, posedet, f, *objs[o], ctx.use_depth, ctx.rgb_refine, r);
         }
         ++k;
         ctx.progress->step(cv::format("%s, frame %d", label.c_str(), k));
@@ -1054,8 +1060,10 @@ int main(int argc, char** argv)
                "modalities' quantization, T_quant); T_tree, T_valid and rejected are forestmod's "
                "DetectionStats\n");
         printf("- accuracy of the best match per object: 2D = box of the projected model at the "
-               "match's pose, IoU >= 0.5 with bbox_obj; proj = 2D projection error < 5 px; "
-               "ADD = ADD (ADI for symmetric objects) < 0.1 d after ICP (RGB-D only)\n\n");
+               "match's pose (%s), IoU >= 0.5 with bbox_obj; proj = 2D projection error < 5 px; "
+               "ADD = ADD (ADI for symmetric objects) < 0.1 d after ICP (RGB-D only)\n\n",
+               use_depth ? "after ICP" : parser.has("rgb_refine") ? "refined by rendering"
+                                                                   : "the template's pose");
         fflush(stdout);
 
         const TrainThreads tt = { threads, train_threads };
@@ -1071,6 +1079,7 @@ int main(int argc, char** argv)
         ctx.frames = &frames;
         ctx.threshold = threshold;
         ctx.use_depth = use_depth;
+        ctx.rgb_refine = parser.has("rgb_refine");
         ctx.progress = &progress;
 
         // ---- Table 1: one object per model

@@ -333,6 +333,7 @@ TEST(Forestmod_Eval, samples_answer_help_and_reject_a_missing_input)
         { "forestmod_train", "--meshes=%s --out=%o" },
         { "forestmod_render", "--mesh=%s --out=%o" },
         { "forestmod_hue", "%s %o" },
+        { "forestmod_detect", "--model=%s --color=%o" },
     };
     const std::string dir = tempDir("forestmod_samples");
     const std::string missing = dir + "/does_not_exist/input.ply";
