@@ -946,6 +946,22 @@ int main(int argc, char** argv)
             setup.modalities.push_back(m);
         }
 
+        if (cache_dir.empty())
+            cache_dir = executableDir(argc > 0 ? argv[0] : 0) + "/../forestmod_cache";
+        cv::utils::fs::createDirectories(cache_dir);
+        if (!cv::utils::fs::isDirectory(cache_dir))
+        {
+            std::cerr << "forestmod_eval: cannot create the cache folder " << cache_dir << "\n";
+            return 1;
+        }
+
+        // templates of every object: from the cache, or rendered (and cached)
+        Progress progress;
+        std::vector<cv::Ptr<fm::Detector> > dets(objects.size());
+        std::vector<double> render(objects.size());
+        for (size_t o = 0; o < objects.size(); ++o)
+            dets[o] = objectTemplates(objects[o], setup, cache_dir, progress, render[o]);
+
         if (synthetic == 0)
             for (size_t i = 0; i < nuse; ++i)
             {
@@ -968,6 +984,12 @@ int main(int argc, char** argv)
             fm::SceneSynthesizer synth(renderer, setup.K);
             for (size_t o = 0; o < objects.size(); ++o)
                 synth.addObject(objects[o].mesh);
+            // the dataset's other meshes are clutter too
+            const std::vector<fm::ModelInfo> models = ds.models();
+            for (size_t i = 0; i < models.size(); ++i)
+                if (std::find(ids.begin(), ids.end(), models[i].obj_id) == ids.end()
+                    && cv::utils::fs::exists(models[i].mesh_path))
+                    synth.addObject(fm::Mesh::load(models[i].mesh_path));
             std::vector<cv::Mat> backgrounds;
             for (size_t i = 0; i < nuse; ++i)
                 backgrounds.push_back(dframes[i].rgb());
@@ -975,11 +997,17 @@ int main(int argc, char** argv)
             cv::RNG rng((uint64)seed);
             for (size_t o = 0; o < objects.size(); ++o)
             {
-                const std::vector<fm::ViewPose> poses
-                    = sampler.poses(cv::Point3d(objects[o].mesh.center()));
+                if (!dets[o])
+                    continue; // no template: left out
+                // the poses of the object's templates (not every sampler pose gives one)
+                std::vector<fm::TemplatePose> poses;
+                for (int i = 0; i < dets[o]->numTemplates(objects[o].class_id); ++i)
+                    poses.push_back(dets[o]->getTemplatePose(objects[o].class_id, i));
                 for (int n = 0; n < synthetic; ++n)
                 {
-                    const fm::ViewPose& vp = poses[rng.uniform(0, (int)poses.size())];
+                    progress.show(cv::format("%s: rendering scene %d/%d", objects[o].name.c_str(),
+                                             n + 1, synthetic));
+                    const fm::TemplatePose& vp = poses[rng.uniform(0, (int)poses.size())];
                     const fm::SyntheticScene s = synth.render((int)o, vp.R, vp.t, rng);
                     EvalFrame f;
                     f.scene_id = 0;
@@ -1027,14 +1055,6 @@ int main(int argc, char** argv)
                 }
             cv::utils::fs::createDirectories(heat_dir);
         }
-        if (cache_dir.empty())
-            cache_dir = executableDir(argc > 0 ? argv[0] : 0) + "/../forestmod_cache";
-        cv::utils::fs::createDirectories(cache_dir);
-        if (!cv::utils::fs::isDirectory(cache_dir))
-        {
-            std::cerr << "forestmod_eval: cannot create the cache folder " << cache_dir << "\n";
-            return 1;
-        }
 
         const std::string mode = use_depth ? "RGB-D" : "RGB only";
         std::string modnames;
@@ -1067,11 +1087,7 @@ int main(int argc, char** argv)
         fflush(stdout);
 
         const TrainThreads tt = { threads, train_threads };
-        Progress progress;
-        int frames_per_object = 0;
-        for (size_t i = 0; i < frames.size(); ++i)
-            if (frameFor(frames[i], 0))
-                ++frames_per_object;
+        int frames_per_object = synthetic > 0 ? synthetic : (int)frames.size();
         progress.total = (int64)objects.size() * frames_per_object * 3
             + (multi ? (int64)frames.size() * 2 : 0);
 
@@ -1084,13 +1100,14 @@ int main(int argc, char** argv)
 
         // ---- Table 1: one object per model
         std::vector<Result> r1(objects.size()), r5(objects.size()), rl(objects.size());
-        std::vector<double> train1(objects.size()), train5(objects.size()), render(objects.size());
+        std::vector<double> train1(objects.size()), train5(objects.size());
         std::vector<std::pair<int, cv::Mat> > heat_single, heat_all;
         std::vector<std::string> skipped;
         for (size_t o = 0; o < objects.size(); ++o)
         {
             ObjectInfo& obj = objects[o];
-            cv::Ptr<fm::Detector> det = objectTemplates(obj, setup, cache_dir, progress, render[o]);
+            cv::Ptr<fm::Detector> det = dets[o];
+            dets[o].release();
             if (!det)
             {
                 skipped.push_back(obj.name);
