@@ -1,0 +1,387 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The samples as programs: forestmod_eval on a small BOP dataset rendered here, and every
+// sample's command line (--help, a missing input). The samples are found next to the test binary.
+
+#include "test_precomp.hpp"
+
+#include <cstdlib>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace opencv_test { namespace {
+
+static std::string binDir()
+{
+    char buf[4096];
+    const ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
+    if (n <= 0)
+        return std::string();
+    buf[n] = 0;
+    std::string p(buf);
+    return p.substr(0, p.find_last_of('/'));
+}
+
+static std::string samplePath(const std::string& name)
+{
+    const std::string p = binDir() + "/" + name;
+    if (!cv::utils::fs::exists(p))
+        throw SkipTestException("sample " + name + " not built next to the test binary ("
+                                + binDir() + ")");
+    return p;
+}
+
+static std::string readText(const std::string& path)
+{
+    std::ifstream f(path.c_str());
+    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+/** Runs a command; returns its exit code (-1 when it did not exit normally); stdout and stderr
+go to out and err. */
+static int run(const std::string& cmd, const std::string& dir, std::string& out, std::string& err)
+{
+    const std::string o = dir + "/stdout.txt", e = dir + "/stderr.txt";
+    const int status = std::system((cmd + " > '" + o + "' 2> '" + e + "'").c_str());
+    out = readText(o);
+    err = readText(e);
+    if (status == -1 || !WIFEXITED(status))
+        return -1;
+    return WEXITSTATUS(status);
+}
+
+static std::string tempDir(const std::string& name)
+{
+    std::string dir = cv::tempfile(name.c_str());
+    cv::utils::fs::createDirectories(dir);
+    return dir;
+}
+
+static void writePly(const Mesh& m, const std::string& path)
+{
+    std::ofstream f(path.c_str());
+    f << "ply\nformat ascii 1.0\nelement vertex " << m.vertices.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\n"
+         "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+         "element face " << m.faces.size() << "\nproperty list uchar int vertex_indices\n"
+         "end_header\n";
+    for (size_t i = 0; i < m.vertices.size(); ++i)
+    {
+        const cv::Vec3b c = m.colors.empty() ? cv::Vec3b(128, 128, 128) : m.colors[i];
+        f << m.vertices[i].x << " " << m.vertices[i].y << " " << m.vertices[i].z << " "
+          << (int)c[2] << " " << (int)c[1] << " " << (int)c[0] << "\n";
+    }
+    for (size_t i = 0; i < m.faces.size(); ++i)
+        f << "3 " << m.faces[i][0] << " " << m.faces[i][1] << " " << m.faces[i][2] << "\n";
+    ASSERT_TRUE(f.good()) << path;
+}
+
+static std::string jsonList(const double* v, int n)
+{
+    std::string s = "[";
+    for (int i = 0; i < n; ++i)
+        s += cv::format("%s%.9g", i ? ", " : "", v[i]);
+    return s + "]";
+}
+
+/** A BOP dataset with two objects (the LM-O ape and a copy 1.6 times its size) in `frames`
+frames: each object at a pose of the level-0 view sampler at 700 mm, moved sideways, over a real
+LM-O frame as background and a plane at 1000 mm (depth). */
+static void makeDataset(const std::string& root, int frames)
+{
+    const std::string ape_path = cvtest::findDataFile("lmo_mini/models/obj_000001.ply");
+    const std::string bg_path = cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png");
+    const Mesh ape = Mesh::load(ape_path);
+    Mesh big = ape;
+    for (size_t i = 0; i < big.vertices.size(); ++i)
+        big.vertices[i] *= 1.6f;
+    const cv::Matx33d K(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+    const cv::Size size(640, 480);
+    cv::utils::fs::createDirectories(root + "/models");
+    const std::string scene = root + "/test/000001";
+    cv::utils::fs::createDirectories(scene + "/rgb");
+    cv::utils::fs::createDirectories(scene + "/depth");
+    {
+        std::ofstream f((root + "/camera.json").c_str());
+        f << "{\"cx\": 325.2611, \"cy\": 242.04899, \"depth_scale\": 1.0, \"fx\": 572.4114, "
+             "\"fy\": 573.57043, \"height\": 480, \"width\": 640}\n";
+    }
+    writePly(ape, root + "/models/obj_000001.ply");
+    writePly(big, root + "/models/obj_000002.ply");
+    {
+        std::ofstream f((root + "/models/models_info.json").c_str());
+        f << "{";
+        const Mesh* meshes[2] = { &ape, &big };
+        for (int k = 0; k < 2; ++k)
+        {
+            const cv::Point3f lo = meshes[k]->bboxMin(), hi = meshes[k]->bboxMax();
+            f << (k ? ", " : "") << "\"" << k + 1 << "\": {\"diameter\": " << meshes[k]->diameter()
+              << ", \"min_x\": " << lo.x << ", \"min_y\": " << lo.y << ", \"min_z\": " << lo.z
+              << ", \"size_x\": " << hi.x - lo.x << ", \"size_y\": " << hi.y - lo.y
+              << ", \"size_z\": " << hi.z - lo.z << "}";
+        }
+        f << "}\n";
+    }
+
+    cv::Ptr<Renderer> renderer = Renderer::create(size);
+    const int h_ape = renderer->addMesh(ape), h_big = renderer->addMesh(big);
+    ViewSampler::Params sp = ViewSampler::Params::coarse();
+    sp.radii.assign(1, 700.0);
+    const ViewSampler sampler(sp);
+    const std::vector<ViewPose> ape_poses = sampler.poses(cv::Point3d(ape.center()));
+    const std::vector<ViewPose> big_poses = sampler.poses(cv::Point3d(big.center()));
+    cv::Mat background = cv::imread(bg_path, cv::IMREAD_COLOR);
+    ASSERT_FALSE(background.empty()) << bg_path;
+    cv::resize(background, background, size);
+
+    std::string cam_json = "{", gt_json = "{", info_json = "{";
+    for (int i = 0; i < frames; ++i)
+    {
+        std::vector<int> handles;
+        handles.push_back(h_ape);
+        handles.push_back(h_big);
+        const ViewPose& pa = ape_poses[i % ape_poses.size()];
+        const ViewPose& pb = big_poses[(i + 2) % big_poses.size()];
+        std::vector<cv::Matx33d> R;
+        std::vector<cv::Vec3d> t;
+        R.push_back(pa.R);
+        t.push_back(pa.t + cv::Vec3d(-110, 20.0 * (i % 3 - 1), 0));
+        R.push_back(pb.R);
+        t.push_back(pb.t + cv::Vec3d(130, -20.0 * (i % 3 - 1), 0));
+        cv::Mat color, depth, labels;
+        renderer->renderScene(handles, R, t, K, color, depth, labels);
+        cv::Mat rgb = background.clone();
+        color.copyTo(rgb, labels > 0);
+        cv::Mat scene_depth(size, CV_16UC1, cv::Scalar(1000));
+        depth.copyTo(scene_depth, labels > 0);
+        ASSERT_TRUE(cv::imwrite(cv::format("%s/rgb/%06d.png", scene.c_str(), i), rgb));
+        ASSERT_TRUE(cv::imwrite(cv::format("%s/depth/%06d.png", scene.c_str(), i), scene_depth));
+
+        const char* sep = i ? ", " : "";
+        cam_json += cv::format("%s\"%d\": {\"cam_K\": %s, \"depth_scale\": 1.0}", sep, i,
+                               jsonList(K.val, 9).c_str());
+        gt_json += cv::format("%s\"%d\": [", sep, i);
+        info_json += cv::format("%s\"%d\": [", sep, i);
+        for (int k = 0; k < 2; ++k)
+        {
+            cv::Mat mask;
+            renderer->render(handles[k], R[k], t[k], K, cv::noArray(), cv::noArray(), mask);
+            const cv::Rect box = cv::boundingRect(mask);
+            const int visible = cv::countNonZero(labels == k + 1), all = cv::countNonZero(mask);
+            ASSERT_GT(visible, 0);
+            const int bb[4] = { box.x, box.y, box.width, box.height };
+            const double b[4] = { (double)bb[0], (double)bb[1], (double)bb[2], (double)bb[3] };
+            gt_json += cv::format("%s{\"cam_R_m2c\": %s, \"cam_t_m2c\": %s, \"obj_id\": %d}",
+                                  k ? ", " : "", jsonList(R[k].val, 9).c_str(),
+                                  jsonList(t[k].val, 3).c_str(), k + 1);
+            info_json += cv::format("%s{\"bbox_obj\": %s, \"bbox_visib\": %s, "
+                                    "\"visib_fract\": %.4f}",
+                                    k ? ", " : "", jsonList(b, 4).c_str(), jsonList(b, 4).c_str(),
+                                    double(visible) / all);
+        }
+        gt_json += "]";
+        info_json += "]";
+    }
+    std::ofstream((scene + "/scene_camera.json").c_str()) << cam_json << "}\n";
+    std::ofstream((scene + "/scene_gt.json").c_str()) << gt_json << "}\n";
+    std::ofstream((scene + "/scene_gt_info.json").c_str()) << info_json << "}\n";
+}
+
+/** OpenCV's JSON reader refuses null: turn the output's nulls into strings. */
+static cv::FileStorage readJsonWithNulls(const std::string& path)
+{
+    std::string text = readText(path);
+    std::string out;
+    for (size_t i = 0; i < text.size(); ++i)
+    {
+        if (text.compare(i, 4, "null") == 0)
+        {
+            out += "\"null\"";
+            i += 3;
+        }
+        else
+            out += text[i];
+    }
+    return cv::FileStorage(out, cv::FileStorage::READ | cv::FileStorage::MEMORY
+                                    | cv::FileStorage::FORMAT_JSON);
+}
+
+static const char* const RESULT_KEYS[] = { "t_total_ms", "t_tree_ms", "t_valid_ms", "recall_2d",
+                                           "proj2d_5px", "add_01d", "rejected_fraction", 0 };
+
+/** Checks one {t_total_ms, ...} entry; returns recall_2d. */
+static double checkResult(const cv::FileNode& r, const std::string& what, bool forest)
+{
+    EXPECT_TRUE(r.isMap()) << what;
+    for (int k = 0; RESULT_KEYS[k]; ++k)
+        EXPECT_FALSE(r[RESULT_KEYS[k]].empty()) << what << ": no " << RESULT_KEYS[k];
+    EXPECT_TRUE(r["t_total_ms"].isReal() || r["t_total_ms"].isInt()) << what;
+    EXPECT_GT((double)r["t_total_ms"], 0.0) << what;
+    if (forest)
+    {
+        EXPECT_GE((double)r["t_tree_ms"], 0.0) << what;
+        EXPECT_GE((double)r["t_valid_ms"], 0.0) << what;
+        const double rej = r["rejected_fraction"];
+        EXPECT_GE(rej, 0.0) << what;
+        EXPECT_LE(rej, 1.0) << what;
+    }
+    else
+    {
+        EXPECT_TRUE(r["t_tree_ms"].isString()) << what << ": cv::linemod has no T_tree (null)";
+        EXPECT_TRUE(r["rejected_fraction"].isString()) << what;
+    }
+    const char* acc[] = { "recall_2d", "proj2d_5px", "add_01d" };
+    for (int k = 0; k < 3; ++k)
+    {
+        const cv::FileNode a = r[acc[k]];
+        EXPECT_TRUE(a.isReal() || a.isInt()) << what << ": " << acc[k] << " must be measured "
+                                              "(the dataset has depth)";
+        EXPECT_GE((double)a, 0.0) << what << ": " << acc[k];
+        EXPECT_LE((double)a, 1.0) << what << ": " << acc[k];
+    }
+    return r["recall_2d"].isString() ? -1.0 : (double)r["recall_2d"];
+}
+
+TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
+{
+    const std::string eval = samplePath("forestmod_eval");
+    const std::string dir = tempDir("forestmod_eval");
+    const std::string root = dir + "/data";
+    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 5));
+    const std::string json = dir + "/out.json";
+    const std::string cmd = "'" + eval + "' --dataset='" + root + "' --scene=1 --level=0 "
+        "--min_elevation=0 --radii=700 --inplane=0,0,15 --threshold=70 --cache='" + dir
+        + "/cache' --json='" + json + "' --heatmap='" + dir + "/heat' --heatmap_frames=2";
+    std::string out, err;
+    ASSERT_EQ(0, run(cmd, dir, out, err)) << out << err;
+    EXPECT_NE(std::string::npos, out.find("## Table 1")) << out;
+    EXPECT_NE(std::string::npos, out.find("1 OpenCV thread")) << out;
+
+    cv::FileStorage fs = readJsonWithNulls(json);
+    ASSERT_TRUE(fs.isOpened());
+    EXPECT_EQ(5, (int)fs["frames"]);
+    cv::FileNode objects = fs["objects"];
+    ASSERT_TRUE(objects.isSeq());
+    ASSERT_EQ(2, (int)objects.size());
+    for (int i = 0; i < 2; ++i)
+    {
+        const cv::FileNode o = objects[i];
+        EXPECT_EQ(i + 1, (int)o["obj_id"]);
+        EXPECT_FALSE(((std::string)o["name"]).empty());
+        const std::string what = cv::format("object %d", i + 1);
+        const double recall1 = checkResult(o["forestmod"], what + " forestmod", true);
+        checkResult(o["forestmod_5"], what + " forestmod_5", true);
+        const double recall_lm = checkResult(o["linemod"], what + " linemod", false);
+        if (i == 0)
+        {
+            // the ape is shown at template poses: both detectors must find it
+            EXPECT_GT(recall1, 0.0);
+            EXPECT_GT(recall_lm, 0.0);
+        }
+    }
+    const cv::FileNode multi = fs["multi"];
+    ASSERT_TRUE(multi.isMap());
+    EXPECT_EQ(2, (int)multi["objects"]);
+    checkResult(multi["forestmod"], "multi forestmod", true);
+    checkResult(multi["linemod"], "multi linemod", false);
+    const cv::FileNode summary = fs["summary"];
+    ASSERT_TRUE(summary.isMap());
+    EXPECT_GT((double)summary["speedup_single"], 0.0);
+    EXPECT_GT((double)summary["speedup_multi"], 0.0);
+    EXPECT_GT((double)summary["growth_multi_over_single"], 0.0);
+    fs.release();
+
+    // heat maps next to the frames
+    const char* models[] = { "single", "all" };
+    for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < 3; ++i)
+        {
+            const std::string file = cv::format("%s/heat/heatmap_%s_000001_%06d.png", dir.c_str(),
+                                                models[k], i);
+            if (i == 2) // --heatmap_frames=2
+            {
+                EXPECT_FALSE(cv::utils::fs::exists(file)) << file;
+                continue;
+            }
+            cv::Mat heat = cv::imread(file, cv::IMREAD_COLOR);
+            ASSERT_FALSE(heat.empty()) << file;
+            EXPECT_EQ(2 * 640, heat.cols);
+            EXPECT_GE(heat.rows, 480);
+        }
+
+    // a second run finds the templates in the cache, and refuses to overwrite the outputs
+    std::string out2, err2;
+    EXPECT_NE(0, run(cmd, dir, out2, err2));
+    EXPECT_NE(std::string::npos, err2.find("--force")) << err2;
+    std::vector<cv::String> cached;
+    cv::utils::fs::glob(dir + "/cache", "*.yml.gz", cached);
+    EXPECT_EQ(2u, cached.size());
+}
+
+TEST(Forestmod_Eval, synthetic_scenes_give_add)
+{
+    const std::string eval = samplePath("forestmod_eval");
+    const std::string dir = tempDir("forestmod_eval_synthetic");
+    const std::string root = dir + "/data";
+    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 2));
+    const std::string json = dir + "/out.json";
+    std::string out, err;
+    ASSERT_EQ(0, run("'" + eval + "' --dataset='" + root + "' --scene=1 --objects=1 --synthetic=2 "
+                     "--no_multi --level=0 --min_elevation=0 --radii=700 --inplane=0,0,15 --cache='"
+                     + dir + "/cache' --json='" + json + "'", dir, out, err)) << out << err;
+    EXPECT_NE(std::string::npos, out.find("ColorGradient + DepthNormal + ColorHue")) << out;
+    cv::FileStorage fs = readJsonWithNulls(json);
+    ASSERT_TRUE(fs.isOpened());
+    EXPECT_EQ(2, (int)fs["frames"]);
+    ASSERT_EQ(1, (int)fs["objects"].size());
+    EXPECT_TRUE(fs["multi"].isString()) << "--no_multi: multi is null";
+    const cv::FileNode o = fs["objects"][0];
+    checkResult(o["forestmod"], "forestmod", true);
+    checkResult(o["linemod"], "linemod", false);
+    // the scenes show the ape at (perturbed) template poses: ICP brings cv::linemod's and
+    // forestmod's best hypotheses within 0.1 d in at least one of the two
+    EXPECT_GT((double)o["linemod"]["add_01d"], 0.0);
+    EXPECT_GT((double)o["forestmod_5"]["add_01d"], 0.0);
+}
+
+struct SampleCall
+{
+    const char* name;
+    const char* missing_input_args; // %s: a path that does not exist, %o: an output path
+};
+
+TEST(Forestmod_Eval, samples_answer_help_and_reject_a_missing_input)
+{
+    const SampleCall samples[] = {
+        { "forestmod_eval", "--dataset=%s" },
+        { "forestmod_train", "--meshes=%s --out=%o" },
+        { "forestmod_render", "--mesh=%s --out=%o" },
+        { "forestmod_hue", "%s %o" },
+        { "forestmod_detect", "--model=%s --color=%o" },
+    };
+    const std::string dir = tempDir("forestmod_samples");
+    const std::string missing = dir + "/does_not_exist/input.ply";
+    for (size_t i = 0; i < sizeof(samples) / sizeof(samples[0]); ++i)
+    {
+        const std::string exe = samplePath(samples[i].name);
+        std::string out, err;
+        EXPECT_EQ(0, run("'" + exe + "' --help", dir, out, err)) << samples[i].name;
+        EXPECT_NE(std::string::npos, (out + err).find("--")) << samples[i].name
+                                                             << ": --help prints no options";
+        std::string args = samples[i].missing_input_args;
+        const size_t s = args.find("%s");
+        args.replace(s, 2, "'" + missing + "'");
+        const size_t o = args.find("%o");
+        if (o != std::string::npos)
+            args.replace(o, 2, "'" + dir + "/out_" + samples[i].name + ".png'");
+        const int code = run("'" + exe + "' " + args, dir, out, err);
+        EXPECT_GT(code, 0) << samples[i].name << " " << args << ": must fail";
+        EXPECT_FALSE(err.empty()) << samples[i].name << ": no message on stderr";
+        EXPECT_NE(std::string::npos, err.find("does_not_exist"))
+            << samples[i].name << ": the message should name the missing path: " << err;
+    }
+}
+
+}} // namespace
