@@ -13,23 +13,12 @@
 
 namespace opencv_test { namespace {
 
-static std::string binDir()
-{
-    char buf[4096];
-    const ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
-    if (n <= 0)
-        return std::string();
-    buf[n] = 0;
-    std::string p(buf);
-    return p.substr(0, p.find_last_of('/'));
-}
-
 static std::string samplePath(const std::string& name)
 {
-    const std::string p = binDir() + "/" + name;
+    const std::string p = testBinaryDir() + "/" + name;
     if (!cv::utils::fs::exists(p))
         throw SkipTestException("sample " + name + " not built next to the test binary ("
-                                + binDir() + ")");
+                                + testBinaryDir() + ")");
     return p;
 }
 

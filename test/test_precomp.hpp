@@ -23,6 +23,8 @@ using namespace cv::forestmod;
 
 /** Root of the optional real data (../shared/data: lmo/, real_rgbd/), or "" when absent. */
 std::string sharedDataPath();
+/** Folder of the test binary (the samples are built next to it). */
+std::string testBinaryDir();
 } // namespace opencv_test
 
 #endif

@@ -10,17 +10,6 @@
 
 namespace opencv_test { namespace {
 
-static std::string binDir()
-{
-    char buf[4096];
-    const ssize_t n = readlink("/proc/self/exe", buf, sizeof(buf) - 1);
-    if (n <= 0)
-        return std::string();
-    buf[n] = 0;
-    std::string p(buf);
-    return p.substr(0, p.find_last_of('/'));
-}
-
 static std::string slurp(const std::string& path)
 {
     std::ifstream f(path.c_str());
@@ -32,7 +21,7 @@ static std::string slurp(const std::string& path)
 TEST(Forestmod_Samples, detect_finds_the_shipped_ape)
 {
     applyTestTag(CV_TEST_TAG_LONG);
-    const std::string exe = binDir() + "/forestmod_detect";
+    const std::string exe = testBinaryDir() + "/forestmod_detect";
     if (!utils::fs::exists(exe))
         throw SkipTestException("forestmod_detect is not built (BUILD_EXAMPLES=OFF)");
     const std::string root = cvtest::findDataFile("lmo_mini/camera.json");
