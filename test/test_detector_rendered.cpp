@@ -34,6 +34,14 @@ static std::vector<Mat> backgrounds()
     return bg;
 }
 
+static std::vector<int> rgbdPyramid()
+{
+    std::vector<int> T;
+    T.push_back(5);
+    T.push_back(8);
+    return T;
+}
+
 static ViewSampler testSampler()
 {
     ViewSampler::Params p;
@@ -117,13 +125,9 @@ TEST(Forestmod_Detector, rendered_scenes_recall_and_rejection)
 
     for (size_t oi = 0; oi < meshes.size(); ++oi)
     {
-        std::vector<Ptr<linemod::Modality> > mods;
-        mods.push_back(linemod::Modality::create("ColorGradient"));
-        mods.push_back(linemod::Modality::create("DepthNormal"));
-        mods.push_back(ColorHue::create());
-        std::vector<int> T;
-        T.push_back(5);
-        T.push_back(8);
+        // LINEMOD's modalities + hue, T = {5, 8}: the ones getDefaultForestLINEMOD() uses
+        const std::vector<Ptr<linemod::Modality> > mods = getDefaultForestLINEMOD()->getModalities();
+        const std::vector<int> T = rgbdPyramid();
         // library defaults (chosen with samples/forestmod_detector_bench.cpp, doc/detector.md)
         DetectorParams pf, pe;
         pe.use_forest = false;
@@ -239,13 +243,8 @@ TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
     sp.inplane_min = 0;
     sp.inplane_max = 0;
     sp.inplane_step = 10;
-    std::vector<Ptr<linemod::Modality> > mods;
-    mods.push_back(linemod::Modality::create("ColorGradient"));
-    mods.push_back(linemod::Modality::create("DepthNormal"));
-    mods.push_back(ColorHue::create());
-    std::vector<int> T;
-    T.push_back(5);
-    T.push_back(8);
+    const std::vector<Ptr<linemod::Modality> > mods = getDefaultForestLINEMOD()->getModalities();
+    const std::vector<int> T = rgbdPyramid();
     DetectorParams p;
     p.depth_samples = 16;     // the depth range comes from the templates' depth samples
     p.depth_range_margin = 100;
