@@ -84,6 +84,44 @@ PERF_TEST(Forestmod_Pose, refinePose_two_passes_VGA)
     SANITY_CHECK_NOTHING();
 }
 
+// Without depth: the scene's edge maps (once per frame) on a real LM-O VGA frame.
+PERF_TEST(Forestmod_Pose, computeEdgeMaps_VGA)
+{
+    const Mat img = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"));
+    ASSERT_FALSE(img.empty());
+    EdgeMaps maps;
+    TEST_CYCLE() computeEdgeMaps(img, maps);
+    ASSERT_EQ((size_t)EdgeRefineParams().orientations, maps.distance.size());
+    SANITY_CHECK_NOTHING();
+}
+
+// Without depth: refinePoseEdges of one hypothesis (the rendered ape pasted on a real frame,
+// start 10 degrees / 10 mm off; default EdgeRefineParams: the start and 3 grid poses refined).
+PERF_TEST(Forestmod_Pose, refinePoseEdges_VGA)
+{
+    MeshRenderer mr(Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply")),
+                    Size(640, 480));
+    const Matx33d K = lmoK();
+    Matx33d R;
+    Vec3d t;
+    ViewSampler::lookAt(mr.mesh.center(), Vec3d(0.5, 0.5, 0.7071), 750, 30, R, t);
+    Mat img = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png")), color, mask;
+    ASSERT_FALSE(img.empty());
+    mr.renderer->render(mr.handle, R, t, K, color, noArray(), mask);
+    color.copyTo(img, mask);
+    EdgeMaps maps;
+    computeEdgeMaps(img, maps);
+    RNG rng(7);
+    const Vec3d c = R * Vec3d(mr.mesh.center().x, mr.mesh.center().y, mr.mesh.center().z) + t;
+    const Matx33d dR = randomRotation(rng, 10.0 * CV_PI / 180);
+    const Matx33d R0 = dR * R;
+    const Vec3d t0 = dR * (t - c) + c + Vec3d(5, -5, 5);
+    EdgeRefineResult res;
+    TEST_CYCLE() res = refinePoseEdges(*mr.renderer, mr.handle, maps, K, R0, t0);
+    ASSERT_LT(projectionError2D(mr.mesh.vertices, K, res.R, res.t, R, t), 2.0);
+    SANITY_CHECK_NOTHING();
+}
+
 // The depth check of one hypothesis (render + compare) on VGA.
 PERF_TEST(Forestmod_Pose, depthCheck_VGA)
 {

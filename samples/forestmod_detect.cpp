@@ -267,7 +267,7 @@ int main(int argc, char** argv)
                 cv::Vec3d rvec;
                 cv::Rodrigues(m.R, rvec);
                 printf(" pose: rvec (%.3f %.3f %.3f) t (%.1f %.1f %.1f) mm%s", rvec[0], rvec[1],
-                       rvec[2], m.t[0], m.t[1], m.t[2], m.refined ? (depth.empty() ? " [refined by rendering]" : " [refined by ICP]") : "");
+                       rvec[2], m.t[0], m.t[1], m.t[2], m.refined ? (depth.empty() ? " [refined: edge alignment]" : " [refined by ICP]") : "");
                 if (m.depth_agreement >= 0)
                     printf(" depth check %.2f", m.depth_agreement);
             }

@@ -44,7 +44,7 @@ static const char* keys
       "{modalities      |          | comma-separated ColorGradient, DepthNormal, ColorHue "
       "(default: ColorGradient,ColorHue; with depth ColorGradient,DepthNormal,ColorHue) }"
       "{threshold       | 80       | similarity threshold (percent) of both detectors }"
-      "{rgb_refine      |          | without depth: refine the best match's pose by rendering "
+      "{rgb_refine      |          | without depth: refine the best match's pose by edge alignment "
       "(PoseParams::rgb_refine; default: the template's pose, as the issue asks) }"
       "{level           | 1        | view sampler: icosahedron subdivisions (1: ~32 deg, "
       "2: ~16 deg) }"
@@ -1082,7 +1082,7 @@ int main(int argc, char** argv)
         printf("- accuracy of the best match per object: 2D = box of the projected model at the "
                "match's pose (%s), IoU >= 0.5 with bbox_obj; proj = 2D projection error < 5 px; "
                "ADD = ADD (ADI for symmetric objects) < 0.1 d after ICP (RGB-D only)\n\n",
-               use_depth ? "after ICP" : parser.has("rgb_refine") ? "refined by rendering"
+               use_depth ? "after ICP" : parser.has("rgb_refine") ? "refined by edge alignment"
                                                                    : "the template's pose");
         fflush(stdout);
 

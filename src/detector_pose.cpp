@@ -16,7 +16,7 @@ namespace forestmod {
 
 PoseParams::PoseParams()
     : max_per_class(3), icp(true), icp_passes(2), depth_check_tolerance(0.05),
-      min_depth_agreement(0.5), rgb_refine(true), rgb_evaluations(150)
+      min_depth_agreement(0.5), rgb_refine(true)
 {
 }
 
@@ -36,8 +36,8 @@ void PoseParams::read(const FileNode& fn)
         min_depth_agreement = (double)fn["min_depth_agreement"];
     if (!fn["rgb_refine"].empty())
         rgb_refine = (int)fn["rgb_refine"] != 0;
-    if (!fn["rgb_evaluations"].empty())
-        rgb_evaluations = (int)fn["rgb_evaluations"];
+    if (!fn["edge_params"].empty())
+        edge_params.read(fn["edge_params"]);
 }
 
 void PoseParams::write(FileStorage& fs) const
@@ -47,131 +47,11 @@ void PoseParams::write(FileStorage& fs) const
     icp_params.write(fs);
     fs << "}";
     fs << "depth_check_tolerance" << depth_check_tolerance << "min_depth_agreement"
-       << min_depth_agreement << "rgb_refine" << (int)rgb_refine << "rgb_evaluations"
-       << rgb_evaluations;
+       << min_depth_agreement << "rgb_refine" << (int)rgb_refine;
+    fs << "edge_params" << "{";
+    edge_params.write(fs);
+    fs << "}";
 }
-
-namespace {
-
-/** LINEMOD similarity of a pose without depth: the object rendered at the pose, its gradient
-features (the detector's own modality) scored at their image positions against the scene's
-response maps. */
-class RgbPoseScore
-{
-public:
-    RgbPoseScore(const Ptr<linemod::Modality>& modality, const Mat& scene, int T,
-                 Renderer& renderer, int handle, const Matx33d& K)
-        : modality_(modality), renderer_(renderer), handle_(handle), K_(K)
-    {
-        Mat q, spread;
-        modality->process(scene)->quantize(q);
-        detail::spreadLabels(q, spread, T, 0);
-        detail::computeResponseMaps(spread, response_);
-        // LINEMOD's spreading looks forward over [p, p + T): centre it
-        shift_ = T / 2;
-    }
-
-    //! mean response (0..4) of the rendered features, -1 when the object is not visible
-    double operator()(const Matx33d& R, const Vec3d& t) const
-    {
-        Mat color, mask;
-        renderer_.render(handle_, R, t, K_, color, noArray(), mask);
-        const Rect box = boundingRect(mask);
-        if (box.area() < 64)
-            return -1;
-        const int margin = 8;
-        const Rect roi = Rect(box.x - margin, box.y - margin, box.width + 2 * margin,
-                              box.height + 2 * margin)
-            & Rect(0, 0, color.cols, color.rows);
-        linemod::Template templ;
-        if (!modality_->process(color(roi), mask(roi))->extractTemplate(templ)
-            || templ.features.empty())
-            return -1;
-        int sum = 0;
-        for (size_t i = 0; i < templ.features.size(); ++i)
-        {
-            const linemod::Feature& f = templ.features[i];
-            const int x = roi.x + f.x - shift_, y = roi.y + f.y - shift_;
-            if (x >= 0 && y >= 0 && x < response_[0].cols && y < response_[0].rows)
-                sum += response_[f.label].at<uchar>(y, x);
-        }
-        return double(sum) / templ.features.size();
-    }
-
-private:
-    Ptr<linemod::Modality> modality_;
-    Renderer& renderer_;
-    int handle_;
-    Matx33d K_;
-    std::vector<Mat> response_;
-    int shift_;
-};
-
-static Matx33d axisRotation(int axis, double deg)
-{
-    Vec3d r(0, 0, 0);
-    r[axis] = deg * CV_PI / 180;
-    Matx33d R;
-    Rodrigues(r, R);
-    return R;
-}
-
-/** Local search over the 6 DoF (rotations about the camera axes through the object centre,
-translation parallel to the image plane in pixels, distance in percent), steps halved when no
-move improves the score. */
-static double refineByRendering(const RgbPoseScore& score, const Point3d& center, const Matx33d& K,
-                                int budget, Matx33d& R, Vec3d& t)
-{
-    double best = score(R, t);
-    int used = 1;
-    double rot_step = 8, px_step = 4, z_step = 0.04;
-    const Vec3d c(center.x, center.y, center.z);
-    while (used < budget && (rot_step >= 0.5 || px_step >= 0.5))
-    {
-        bool improved = false;
-        for (int move = 0; move < 12 && used < budget; ++move)
-        {
-            const int axis = move / 2 % 3;
-            const double sign = move % 2 ? -1 : 1;
-            Matx33d R2 = R;
-            Vec3d t2 = t;
-            const Vec3d pc = R * c + t; // object centre in the camera
-            if (move < 6)
-            {
-                // rotate about the object centre
-                const Matx33d dR = axisRotation(axis, sign * rot_step);
-                R2 = dR * R;
-                t2 = pc - R2 * c;
-            }
-            else if (axis < 2)
-            {
-                Vec3d d(0, 0, 0);
-                d[axis] = sign * px_step * pc[2] / (axis == 0 ? K(0, 0) : K(1, 1));
-                t2 = t + d;
-            }
-            else
-                t2 = t + pc * (sign * z_step);
-            const double s = score(R2, t2);
-            ++used;
-            if (s > best)
-            {
-                best = s;
-                R = R2;
-                t = t2;
-                improved = true;
-            }
-        }
-        if (!improved)
-        {
-            rot_step *= 0.5;
-            px_step *= 0.5;
-            z_step *= 0.5;
-        }
-    }
-    return best;
-}
-
-} // namespace
 
 void Detector::setMesh(const String& class_id, const Mesh& mesh)
 {
@@ -226,12 +106,22 @@ void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<Po
     if (!scene_color.empty() && scene_color.type() != CV_8UC3)
         CV_Error(Error::StsUnsupportedFormat, "forestmod::Detector::estimatePoses: color must be "
                                               "a CV_8UC3 BGR image");
-    int gradient = -1;
-    for (size_t i = 0; i < modalities.size(); ++i)
-        if (modalities[i]->name() == "ColorGradient")
-            gradient = static_cast<int>(i);
-    Ptr<RgbPoseScore> rgb_score;
-    int rgb_handle = -1;
+    EdgeMaps edge_maps; // of the scene colour around the matches to refine, made on first use
+    Rect edge_roi;
+    if (depth.empty() && params.rgb_refine && !scene_color.empty())
+    {
+        std::map<String, int> count;
+        const int margin = cvCeil(3 * params.edge_params.max_distance);
+        for (size_t i = 0; i < matches.size(); ++i)
+            if (matches[i].pose.valid && count[matches[i].class_id]++ < params.max_per_class)
+            {
+                const Rect b(matches[i].x - margin, matches[i].y - margin,
+                             matches[i].pose.box.width + 2 * margin,
+                             matches[i].pose.box.height + 2 * margin);
+                edge_roi = edge_roi.area() > 0 ? (edge_roi | b) : b;
+            }
+        edge_roi &= Rect(0, 0, scene_color.cols, scene_color.rows);
+    }
     std::vector<PoseMatch> kept;
     for (size_t i = 0; i < matches.size(); ++i)
     {
@@ -292,19 +182,19 @@ void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<Po
         if (depth.empty() && params.rgb_refine && done < params.max_per_class && !scene_color.empty())
         {
             AutoLock lock(impl.render_mutex);
-            const int handle = gradient >= 0 ? meshHandle(impl, m.class_id, scene_color.size()) : -1;
+            const int handle = meshHandle(impl, m.class_id, scene_color.size());
             if (handle >= 0)
             {
-                if (!rgb_score || rgb_handle != handle)
+                if (edge_maps.distance.empty())
+                    computeEdgeMaps(scene_color, edge_maps, params.edge_params, edge_roi);
+                const EdgeRefineResult er = refinePoseEdges(*impl.renderer, handle, edge_maps, K,
+                                                            m.R, m.t, params.edge_params);
+                if (er.points > 0)
                 {
-                    rgb_score = Ptr<RgbPoseScore>(new RgbPoseScore(
-                        modalities[gradient], scene_color, 3, *impl.renderer, handle, K));
-                    rgb_handle = handle;
+                    m.R = er.R;
+                    m.t = er.t;
+                    m.refined = true;
                 }
-                const Point3f c = impl.meshes[m.class_id].center();
-                refineByRendering(*rgb_score, Point3d(c.x, c.y, c.z), K, params.rgb_evaluations,
-                                  m.R, m.t);
-                m.refined = true;
                 ++done;
             }
         }

@@ -85,9 +85,9 @@ TEST(Forestmod_DetectorPose, rgbd_scenes_give_correct_poses)
     EXPECT_GE(rgb_close, scenes - 1);
     ASSERT_GE(rgb_n, scenes - 1);
     std::cout << "[ INFO    ] RGB only, mean 2D projection error: " << rgb_err_unrefined / rgb_n
-              << " px from the template, " << rgb_err / rgb_n << " px refined by rendering"
+              << " px from the template, " << rgb_err / rgb_n << " px refined by edge alignment (refinePoseEdges)"
               << std::endl;
-    EXPECT_LT(rgb_err, 0.8 * rgb_err_unrefined);
+    EXPECT_LT(rgb_err, 0.5 * rgb_err_unrefined); // measured 3.3 -> 0.67 px
 }
 
 TEST(Forestmod_DetectorPose, bad_input_raises)

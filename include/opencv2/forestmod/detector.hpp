@@ -157,13 +157,14 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
     /** Refined hypotheses whose depth check is below this are dropped (ACCV 2012's post-
     processing); 0 keeps them all. Default 0.5. */
     CV_PROP_RW double min_depth_agreement;
-    /** Without depth: refine the template's pose by rendering (local search over the 6 DoF that
-    maximises LINEMOD's similarity of the rendered object's gradient features at their projected
-    positions in the scene), for the best max_per_class matches of classes with a mesh. Template
-    poses are as coarse as the view sampling (~16 degrees); this brings them to the pixel. */
+    /** Without depth, given the colour image: refine the template's pose by aligning the
+    object's rendered edges with the scene's edges (refinePoseEdges(), directional chamfer,
+    Levenberg-Marquardt over the 6 DoF), for the best max_per_class matches of classes with a
+    mesh. Template poses are as coarse as the view sampling (~16 degrees); this brings them to
+    the pixel. Default true. */
     CV_PROP_RW bool rgb_refine;
-    /** Pose evaluations (renderings) of the RGB refinement per match. Default 150. */
-    CV_PROP_RW int rgb_evaluations;
+    /** Parameters of that refinement (see EdgeRefineParams). */
+    CV_PROP_RW EdgeRefineParams edge_params;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;

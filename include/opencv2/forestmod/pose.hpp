@@ -230,6 +230,131 @@ CV_EXPORTS ICPResult refinePose(Renderer& renderer, int handle, InputArray scene
                                 const ICPParams& params = ICPParams(), int passes = 2,
                                 int step = 1);
 
+/** @brief Parameters of the edge-based pose refinement without depth (computeEdgeMaps(),
+refinePoseEdges()). FileStorage keys are the field names.
+
+The defaults were chosen on the shipped LM-O ape frames and on rendered scenes (doc/pose.md,
+"Refinement without depth"). */
+struct CV_EXPORTS_W_SIMPLE EdgeRefineParams
+{
+    CV_WRAP EdgeRefineParams();
+
+    /** Edge orientation bins over 180 degrees (directional chamfer, Liu et al. CVPR 2010 /
+    D2CO, Imperoli and Pretto 2015). A model edge point is compared with the scene edges of its
+    own bin and the two neighbouring ones, i.e. within about +-1.5 bins. Default 16 (11.25
+    degrees per bin, +-17 degrees of tolerance): on rendered apes over real clutter, 8 degrees
+    off, 17/20 starts end under 2 px against 16/20 with 8 bins (doc/pose.md). */
+    CV_PROP_RW int orientations;
+    /** Canny thresholds on the scene image (3-channel images: the strongest channel, as
+    LINEMOD's ColorGradient). Defaults 30 / 80 with the L2 gradient: the weak contours of
+    texture-less objects in VGA Kinect images. */
+    CV_PROP_RW double canny_low;
+    CV_PROP_RW double canny_high;
+    /** Distances (pixels) to the nearest scene edge are truncated here: a model point farther
+    from any edge of its orientation is an outlier and does not pull. Default 15 px: the
+    residual error of a template match (half a template step, ~8-15 px in VGA). */
+    CV_PROP_RW double max_distance;
+    /** Render + optimise passes: each pass renders the object at the current pose and takes its
+    contour and inner edges as model points. Default 4. */
+    CV_PROP_RW int passes;
+    /** Levenberg-Marquardt iterations per pass. Default 15. */
+    CV_PROP_RW int iterations;
+    /** At most this many model edge points per pass (evenly subsampled). Default 400. */
+    CV_PROP_RW int max_points;
+    /** Huber threshold (pixels) of the chamfer residuals. Default 2 px. */
+    CV_PROP_RW double huber;
+    /** A model point is an inlier (EdgeRefineResult::inlier_ratio) when a scene edge of its
+    orientation lies within this distance (pixels). Default 2 px. */
+    CV_PROP_RW double inlier_distance;
+    /** Also use the object's inner edges (depth discontinuities of the rendering, i.e.
+    self-occlusion contours), not only its silhouette. Default false: on the real LM-O ape
+    frames they helped as often as they hurt (doc/pose.md); the rendered colour's edges are never
+    used (its shading does not match the scene's). */
+    CV_PROP_RW bool inner_edges;
+    /** Coarse search before the refinement: the start pose turned about the camera axes
+    through the object's centre on a grid of +-search_angle degrees (search_steps steps each
+    way, (2 search_steps + 1)^3 rotations), scored with the start's edge points (no rendering);
+    the start and the best `hypotheses` grid poses are refined and the fit with the highest
+    inlier ratio is kept. Defaults 12 degrees and 3 steps (4 degree grid): template views are ~16 degrees
+    apart (ViewSampler level 2) and in-plane steps 15-20 degrees, so the truth is within about
+    10 degrees of the matched template's pose; 0 = no search. */
+    CV_PROP_RW double search_angle;
+    CV_PROP_RW int search_steps;
+    /** Grid poses refined besides the start itself (>= 1). Default 3. */
+    CV_PROP_RW int hypotheses;
+
+    void read(const FileNode& fn);
+    void write(FileStorage& fs) const;
+};
+
+/** @brief Directional distance maps of a scene image's edges (computeEdgeMaps()). */
+struct CV_EXPORTS_W_SIMPLE EdgeMaps
+{
+    /** One CV_32FC1 map per orientation bin: distance (pixels) to the nearest edge whose
+    orientation is in that bin or a neighbouring one, truncated at max_distance. */
+    CV_PROP_RW std::vector<Mat> distance;
+    /** CV_8UC1 edge image (Canny), 255 on edges. */
+    CV_PROP_RW Mat edges;
+    /** Truncation distance the maps were made with. */
+    CV_PROP_RW double max_distance;
+};
+
+/** @brief Result of refinePoseEdges(). */
+struct CV_EXPORTS_W_SIMPLE EdgeRefineResult
+{
+    CV_WRAP EdgeRefineResult();
+    CV_PROP_RW Matx33d R; //!< refined pose, model -> camera
+    CV_PROP_RW Vec3d t;
+    /** Share (0..1) of the final model edge points with a scene edge of their orientation within
+    EdgeRefineParams::inlier_distance: the quality of the fit, comparable across hypotheses. */
+    CV_PROP_RW double inlier_ratio;
+    /** Mean truncated distance (pixels) of the final model edge points to the scene edges. */
+    CV_PROP_RW double mean_distance;
+    /** Model edge points of the last pass (0: the object was not visible; R, t = start). */
+    CV_PROP_RW int points;
+    /** Levenberg-Marquardt iterations over all passes and hypotheses. */
+    CV_PROP_RW int iterations;
+    /** Centroid (model coordinates, mm) of the final model edge points. */
+    CV_PROP_RW Vec3d center;
+};
+
+/** @brief Edges of a scene image and their directional distance maps, for refinePoseEdges().
+Computed once per frame and shared by all hypotheses.
+@param image CV_8UC3 (BGR) or CV_8UC1 scene image.
+@param maps  output.
+@param params orientations, canny_low/high, max_distance are used.
+@param roi   the part of the image where hypotheses will be refined (their boxes widened by a few
+             max_distance); empty = the whole image. Outside it the maps hold max_distance. A
+             roi around the matches is much cheaper than the whole frame (16 distance transforms).
+*/
+CV_EXPORTS void computeEdgeMaps(InputArray image, EdgeMaps& maps,
+                                const EdgeRefineParams& params = EdgeRefineParams(),
+                                const Rect& roi = Rect());
+
+/** @brief Pose refinement without depth: directional chamfer alignment of the object's rendered
+edges with the scene's edges (D2CO-like, Imperoli and Pretto 2015).
+
+Each pass renders mesh `handle` at the current pose, takes its silhouette (and, with
+params.inner_edges, its colour edges and depth discontinuities) as model edge points, each with
+its 3D position (back-projected from the rendered depth) and its gradient orientation, and
+minimises with Levenberg-Marquardt the robust (Huber) sum of the points' distances to the scene
+edges of their orientation (maps), over the 6 DoF (rotation about the points' centroid,
+translation). The distance maps are interpolated bilinearly; their finite differences give the
+Jacobian. Distances are truncated at maps.max_distance, so clutter edges farther away than that
+do not pull, and the start must be within about that many pixels of the object's contour.
+
+@param renderer renderer of the scene's size with the mesh uploaded.
+@param handle   the mesh's handle.
+@param maps     computeEdgeMaps() of the scene image (same size as the renderer).
+@param K        intrinsics of the scene.
+@param R0, t0   starting pose (e.g. initialPose() of a template match).
+@param params   see EdgeRefineParams.
+*/
+CV_EXPORTS EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps& maps,
+                                            const Matx33d& K, const Matx33d& R0,
+                                            const Vec3d& t0,
+                                            const EdgeRefineParams& params = EdgeRefineParams());
+
 /** @brief depthAgreement() of the pose (R, t) of mesh `handle`, rendered with `renderer` (same
 size as scene_depth). */
 CV_EXPORTS double depthCheck(Renderer& renderer, int handle, InputArray scene_depth,

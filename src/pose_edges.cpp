@@ -1,0 +1,525 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Pose refinement without depth: directional chamfer alignment of the rendered object's edges
+// with the scene's edges (Liu et al. CVPR 2010; D2CO, Imperoli and Pretto, ICVS 2015), solved
+// with Levenberg-Marquardt over the 6 DoF. See doc/pose.md, "Refinement without depth".
+
+#include "precomp.hpp"
+#include "opencv2/calib3d.hpp"
+
+namespace cv {
+namespace forestmod {
+
+EdgeRefineParams::EdgeRefineParams()
+    : orientations(16), canny_low(30), canny_high(80), max_distance(15), passes(4),
+      iterations(15), max_points(400), huber(2), inlier_distance(2), inner_edges(false),
+      search_angle(12), search_steps(3), hypotheses(3)
+{
+}
+
+void EdgeRefineParams::read(const FileNode& fn)
+{
+    if (!fn["orientations"].empty())
+        orientations = (int)fn["orientations"];
+    if (!fn["canny_low"].empty())
+        canny_low = (double)fn["canny_low"];
+    if (!fn["canny_high"].empty())
+        canny_high = (double)fn["canny_high"];
+    if (!fn["max_distance"].empty())
+        max_distance = (double)fn["max_distance"];
+    if (!fn["passes"].empty())
+        passes = (int)fn["passes"];
+    if (!fn["iterations"].empty())
+        iterations = (int)fn["iterations"];
+    if (!fn["max_points"].empty())
+        max_points = (int)fn["max_points"];
+    if (!fn["huber"].empty())
+        huber = (double)fn["huber"];
+    if (!fn["inlier_distance"].empty())
+        inlier_distance = (double)fn["inlier_distance"];
+    if (!fn["inner_edges"].empty())
+        inner_edges = (int)fn["inner_edges"] != 0;
+    if (!fn["search_angle"].empty())
+        search_angle = (double)fn["search_angle"];
+    if (!fn["search_steps"].empty())
+        search_steps = (int)fn["search_steps"];
+    if (!fn["hypotheses"].empty())
+        hypotheses = (int)fn["hypotheses"];
+}
+
+void EdgeRefineParams::write(FileStorage& fs) const
+{
+    fs << "orientations" << orientations << "canny_low" << canny_low << "canny_high" << canny_high
+       << "max_distance" << max_distance << "passes" << passes << "iterations" << iterations
+       << "max_points" << max_points << "huber" << huber << "inlier_distance" << inlier_distance
+       << "inner_edges" << (int)inner_edges << "search_angle" << search_angle << "search_steps"
+       << search_steps << "hypotheses" << hypotheses;
+}
+
+EdgeRefineResult::EdgeRefineResult()
+    : R(Matx33d::eye()), t(0, 0, 0), inlier_ratio(0), mean_distance(0), points(0), iterations(0),
+      center(0, 0, 0)
+{
+}
+
+static void checkEdgeParams(const EdgeRefineParams& p, const char* func)
+{
+    if (p.orientations < 2 || p.orientations > 32)
+        CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams::orientations must be in [2, 32], "
+                                         "got %d", func, p.orientations));
+    if (!(p.canny_low >= 0 && p.canny_high >= p.canny_low))
+        CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams needs 0 <= canny_low <= canny_high",
+                                         func));
+    if (!(p.max_distance > 1))
+        CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams::max_distance must be > 1 px",
+                                         func));
+    if (p.passes < 1 || p.iterations < 1 || p.max_points < 6)
+        CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams needs passes >= 1, iterations >= "
+                                         "1 and max_points >= 6", func));
+    if (!(p.huber > 0 && p.inlier_distance > 0))
+        CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams::huber and inlier_distance must be "
+                                         "positive", func));
+}
+
+// orientation bin (gradient direction modulo 180 degrees) of a gradient
+static inline int orientationBin(float dx, float dy, int bins)
+{
+    float a = std::atan2(dy, dx); // (-pi, pi]
+    if (a < 0)
+        a += (float)CV_PI;
+    int b = (int)(a * bins / (float)CV_PI);
+    return b >= bins ? b - bins : b;
+}
+
+// per pixel: the gradient of the channel with the largest magnitude (LINEMOD's colour gradient)
+static void strongestGradient(const Mat& img, Mat& dx, Mat& dy)
+{
+    Mat sx, sy;
+    Sobel(img, sx, CV_32F, 1, 0, 3);
+    Sobel(img, sy, CV_32F, 0, 1, 3);
+    const int cn = img.channels();
+    dx.create(img.size(), CV_32FC1);
+    dy.create(img.size(), CV_32FC1);
+    for (int y = 0; y < img.rows; ++y)
+    {
+        const float* px = sx.ptr<float>(y);
+        const float* py = sy.ptr<float>(y);
+        float* ox = dx.ptr<float>(y);
+        float* oy = dy.ptr<float>(y);
+        for (int x = 0; x < img.cols; ++x)
+        {
+            int best = 0;
+            float m = -1;
+            for (int c = 0; c < cn; ++c)
+            {
+                const float v = px[x * cn + c] * px[x * cn + c] + py[x * cn + c] * py[x * cn + c];
+                if (v > m)
+                {
+                    m = v;
+                    best = c;
+                }
+            }
+            ox[x] = px[x * cn + best];
+            oy[x] = py[x * cn + best];
+        }
+    }
+}
+
+void computeEdgeMaps(InputArray _image, EdgeMaps& maps, const EdgeRefineParams& params,
+                     const Rect& _roi)
+{
+    checkEdgeParams(params, "computeEdgeMaps");
+    Mat img = _image.getMat();
+    if (img.empty())
+        CV_Error(Error::StsBadArg, "computeEdgeMaps: the image is empty");
+    if (img.type() != CV_8UC3 && img.type() != CV_8UC1)
+        CV_Error_(Error::StsUnsupportedFormat, ("computeEdgeMaps: the image must be CV_8UC3 (BGR) "
+                                                "or CV_8UC1, got %s",
+                                                typeToString(img.type()).c_str()));
+    const Rect full(0, 0, img.cols, img.rows);
+    const Rect roi = _roi.area() > 0 ? (_roi & full) : full;
+    if (roi.area() == 0)
+        CV_Error(Error::StsBadArg, "computeEdgeMaps: the roi lies outside the image");
+    // edges and distances inside the roi only; outside, the distance is max_distance
+    maps.edges = Mat::zeros(img.size(), CV_8UC1);
+    const Rect ext = Rect(roi.x - 1, roi.y - 1, roi.width + 2, roi.height + 2) & full;
+    Mat sub = img(ext), sub_edges;
+    Canny(sub, sub_edges, params.canny_low, params.canny_high, 3, true);
+    sub_edges(Rect(roi.tl() - ext.tl(), roi.size())).copyTo(maps.edges(roi));
+    Mat dx, dy;
+    strongestGradient(sub, dx, dy);
+    const int B = params.orientations;
+    std::vector<Mat> free_of(B); // 0 on edges of bin b or its neighbours, 255 elsewhere
+    for (int b = 0; b < B; ++b)
+        free_of[b] = Mat(roi.size(), CV_8UC1, Scalar(255));
+    for (int y = 0; y < roi.height; ++y)
+    {
+        const uchar* e = maps.edges.ptr<uchar>(y + roi.y) + roi.x;
+        const float* gx = dx.ptr<float>(y + roi.y - ext.y) + (roi.x - ext.x);
+        const float* gy = dy.ptr<float>(y + roi.y - ext.y) + (roi.x - ext.x);
+        for (int x = 0; x < roi.width; ++x)
+        {
+            if (!e[x])
+                continue;
+            const int b = orientationBin(gx[x], gy[x], B);
+            free_of[b].ptr<uchar>(y)[x] = 0;
+            free_of[(b + 1) % B].ptr<uchar>(y)[x] = 0;
+            free_of[(b + B - 1) % B].ptr<uchar>(y)[x] = 0;
+        }
+    }
+    maps.distance.resize(B);
+    parallel_for_(Range(0, B), [&](const Range& r) {
+        for (int b = r.start; b < r.end; ++b)
+        {
+            Mat dist;
+            distanceTransform(free_of[b], dist, DIST_L2, DIST_MASK_5);
+            maps.distance[b].create(img.size(), CV_32FC1);
+            maps.distance[b].setTo(Scalar(params.max_distance));
+            min(dist, params.max_distance, maps.distance[b](roi));
+        }
+    });
+    maps.max_distance = params.max_distance;
+}
+
+namespace {
+
+struct EdgePoint
+{
+    Point3d model; // model coordinates, mm
+    int bin;
+};
+
+// bilinear sample of a CV_32F map; false outside (1 px margin for the differences)
+static inline bool sampleMap(const Mat& m, double u, double v, double& val, double& gu, double& gv)
+{
+    if (!(u >= 1 && v >= 1 && u < m.cols - 2 && v < m.rows - 2))
+        return false;
+    const int x = (int)u, y = (int)v;
+    const double fx = u - x, fy = v - y;
+    const float* r0 = m.ptr<float>(y);
+    const float* r1 = m.ptr<float>(y + 1);
+    const double a = r0[x], b = r0[x + 1], c = r1[x], d = r1[x + 1];
+    val = (1 - fy) * ((1 - fx) * a + fx * b) + fy * ((1 - fx) * c + fx * d);
+    gu = (1 - fy) * (b - a) + fy * (d - c);
+    gv = (1 - fx) * (c - a) + fx * (d - b);
+    return true;
+}
+
+// model edge points of the object rendered at (R, t): silhouette, and colour edges / depth
+// discontinuities inside it
+static void extractEdgePoints(Renderer& renderer, int handle, const Matx33d& K, const Matx33d& R,
+                              const Vec3d& t, const EdgeRefineParams& p, std::vector<EdgePoint>& pts)
+{
+    pts.clear();
+    Mat depth, mask;
+    renderer.render(handle, R, t, K, noArray(), depth, mask);
+    const Rect box = boundingRect(mask);
+    if (box.area() < 16)
+        return;
+    const int margin = 3;
+    const Rect roi = Rect(box.x - margin, box.y - margin, box.width + 2 * margin,
+                          box.height + 2 * margin) & Rect(0, 0, mask.cols, mask.rows);
+    Mat m = mask(roi), d = depth(roi);
+    Mat inner;
+    erode(m, inner, Mat(), Point(-1, -1), 1);
+    Mat edge = m - inner; // silhouette: object pixels with a background neighbour
+    Mat mdx, mdy;
+    Mat mf;
+    GaussianBlur(m, mf, Size(5, 5), 0);
+    Sobel(mf, mdx, CV_32F, 1, 0, 3);
+    Sobel(mf, mdy, CV_32F, 0, 1, 3);
+    Mat cedges, ddx, ddy;
+    if (p.inner_edges)
+    {
+        // depth discontinuities (self-occlusion) inside the object: geometric edges that the
+        // scene shows whatever the lighting; the rendered colour's edges are not used (its
+        // shading does not match the scene's, measured in doc/pose.md)
+        Mat core;
+        erode(m, core, Mat(), Point(-1, -1), 2);
+        cedges = Mat::zeros(m.size(), CV_8UC1);
+        Mat df;
+        d.convertTo(df, CV_32F);
+        Sobel(df, ddx, CV_32F, 1, 0, 3);
+        Sobel(df, ddy, CV_32F, 0, 1, 3);
+        for (int y = 0; y < d.rows; ++y)
+        {
+            const uchar* k = core.ptr<uchar>(y);
+            const float* gx = ddx.ptr<float>(y);
+            const float* gy = ddy.ptr<float>(y);
+            uchar* ce = cedges.ptr<uchar>(y);
+            for (int x = 0; x < d.cols; ++x)
+                if (k[x] && gx[x] * gx[x] + gy[x] * gy[x] > 80.f * 80.f) // > ~10 mm per pixel
+                    ce[x] = 128;
+        }
+    }
+    struct Cand
+    {
+        int x, y, bin;
+    };
+    std::vector<Cand> cands;
+    for (int y = 0; y < m.rows; ++y)
+    {
+        const uchar* e = edge.ptr<uchar>(y);
+        const uchar* ce = cedges.empty() ? 0 : cedges.ptr<uchar>(y);
+        for (int x = 0; x < m.cols; ++x)
+        {
+            if (e[x])
+            {
+                Cand k = { x, y, orientationBin(mdx.at<float>(y, x), mdy.at<float>(y, x),
+                                                p.orientations) };
+                cands.push_back(k);
+            }
+            else if (ce && ce[x] == 128)
+            {
+                Cand k = { x, y, orientationBin(ddx.at<float>(y, x), ddy.at<float>(y, x),
+                                                p.orientations) };
+                cands.push_back(k);
+            }
+        }
+    }
+    const size_t n = std::min(cands.size(), (size_t)p.max_points);
+    const Matx33d Kinv = K.inv(), Rt = R.t();
+    for (size_t i = 0; i < n; ++i)
+    {
+        const Cand& k = cands[i * cands.size() / n];
+        const ushort z = d.at<ushort>(k.y, k.x);
+        if (z == 0)
+            continue;
+        const Vec3d ray = Kinv * Vec3d(k.x + roi.x, k.y + roi.y, 1.0);
+        const Vec3d pc = ray * (double)z;
+        EdgePoint e;
+        const Vec3d pm = Rt * (pc - t);
+        e.model = Point3d(pm[0], pm[1], pm[2]);
+        e.bin = k.bin;
+        pts.push_back(e);
+    }
+}
+
+// robust cost and normal equations at the pose (R, t); rotation about c (camera frame)
+static double edgeCost(const std::vector<EdgePoint>& pts, const EdgeMaps& maps, double dmax,
+                       const Matx33d& K, const Matx33d& R, const Vec3d& t, double huber,
+                       const Vec3d& c,
+                       Matx66d* JtJ, Vec6d* Jtr, int* inliers, double inlier_distance,
+                       double* mean_distance)
+{
+    const double fx = K(0, 0), fy = K(1, 1), cx = K(0, 2), cy = K(1, 2), s = K(0, 1);
+    double cost = 0, dsum = 0;
+    int in = 0;
+    if (JtJ)
+    {
+        *JtJ = Matx66d::zeros();
+        *Jtr = Vec6d::all(0);
+    }
+    for (size_t i = 0; i < pts.size(); ++i)
+    {
+        const Vec3d X = R * Vec3d(pts[i].model.x, pts[i].model.y, pts[i].model.z) + t;
+        double r = dmax, gu = 0, gv = 0;
+        bool inside = X[2] > 1e-6;
+        if (inside)
+        {
+            const double u = fx * X[0] / X[2] + s * X[1] / X[2] + cx, v = fy * X[1] / X[2] + cy;
+            inside = sampleMap(maps.distance[pts[i].bin], u, v, r, gu, gv);
+            if (!inside || r >= dmax)
+            {
+                r = dmax;
+                inside = false;
+            }
+        }
+        dsum += r;
+        in += r <= inlier_distance;
+        // Huber
+        const double ar = std::abs(r);
+        cost += ar <= huber ? 0.5 * r * r : huber * (ar - 0.5 * huber);
+        if (!JtJ || !inside)
+            continue;
+        const double w = ar <= huber ? 1.0 : huber / ar;
+        // d(u, v)/dX
+        const double iz = 1.0 / X[2];
+        const double du_dx = fx * iz, du_dy = s * iz, du_dz = -(fx * X[0] + s * X[1]) * iz * iz;
+        const double dv_dy = fy * iz, dv_dz = -fy * X[1] * iz * iz;
+        const Vec3d g(gu * du_dx, gu * du_dy + gv * dv_dy, gu * du_dz + gv * dv_dz); // dr/dX
+        // X' = exp(w)(X - c) + c + v: dX/dw = -[X - c]x, dX/dv = I
+        const Vec3d q = X - c;
+        const Vec3d gw = q.cross(g); // g^T (-[q]x) = (q x g)^T
+        Vec6d J(gw[0], gw[1], gw[2], g[0], g[1], g[2]);
+        for (int a = 0; a < 6; ++a)
+        {
+            (*Jtr)[a] += w * J[a] * r;
+            for (int b = a; b < 6; ++b)
+                (*JtJ)(a, b) += w * J[a] * J[b];
+        }
+    }
+    if (JtJ)
+        for (int a = 0; a < 6; ++a)
+            for (int b = 0; b < a; ++b)
+                (*JtJ)(a, b) = (*JtJ)(b, a);
+    if (inliers)
+        *inliers = in;
+    if (mean_distance)
+        *mean_distance = pts.empty() ? dmax : dsum / pts.size();
+    return cost;
+}
+
+} // namespace
+
+static EdgeRefineResult refineFrom(Renderer& renderer, int handle, const EdgeMaps& maps,
+                                   const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
+                                   const EdgeRefineParams& params);
+
+EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps& maps,
+                                 const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
+                                 const EdgeRefineParams& params)
+{
+    checkEdgeParams(params, "refinePoseEdges");
+    if ((int)maps.distance.size() != params.orientations)
+        CV_Error_(Error::StsBadArg, ("refinePoseEdges: the edge maps have %d orientation bins but "
+                                     "params.orientations is %d (computeEdgeMaps() with the same "
+                                     "params)", (int)maps.distance.size(), params.orientations));
+    if (maps.distance[0].size() != renderer.size())
+        CV_Error_(Error::StsBadSize, ("refinePoseEdges: the edge maps are %dx%d but the renderer "
+                                      "is %dx%d", maps.distance[0].cols, maps.distance[0].rows,
+                                      renderer.size().width, renderer.size().height));
+    if (!(K(0, 0) > 0 && K(1, 1) > 0))
+        CV_Error(Error::StsBadArg, "refinePoseEdges: K has no focal length");
+    if (!(params.search_angle >= 0) || params.search_steps < 0 || params.hypotheses < 1)
+        CV_Error(Error::StsOutOfRange, "refinePoseEdges: EdgeRefineParams needs search_angle >= "
+                                       "0, search_steps >= 0 and hypotheses >= 1");
+    std::vector<std::pair<double, Matx33d> > starts; // (mean distance, rotation increment)
+    Vec3d c(0, 0, 0);
+    if (params.search_angle > 0 && params.search_steps > 0)
+    {
+        // coarse search over rotations about the object's centre: the model edge points of the
+        // start pose, turned on a grid of +-search_angle about the camera axes, scored without
+        // rendering again (the silhouette changes little within a few degrees)
+        std::vector<EdgePoint> pts;
+        extractEdgePoints(renderer, handle, K, R0, t0, params, pts);
+        if (pts.size() >= 6)
+        {
+            for (size_t i = 0; i < pts.size(); ++i)
+                c += R0 * Vec3d(pts[i].model.x, pts[i].model.y, pts[i].model.z) + t0;
+            c *= 1.0 / pts.size();
+            const int S = params.search_steps;
+            const double step = params.search_angle / S * CV_PI / 180;
+            for (int i = -S; i <= S; ++i)
+                for (int j = -S; j <= S; ++j)
+                    for (int k = -S; k <= S; ++k)
+                    {
+                        Matx33d dR;
+                        Rodrigues(Vec3d(i * step, j * step, k * step), dR);
+                        double mean = 0;
+                        edgeCost(pts, maps, maps.max_distance, K, dR * R0, dR * (t0 - c) + c,
+                                 params.huber, c, 0, 0, 0, params.inlier_distance, &mean);
+                        starts.push_back(std::make_pair(mean, dR));
+                    }
+            std::stable_sort(starts.begin(), starts.end(),
+                             [](const std::pair<double, Matx33d>& a,
+                                const std::pair<double, Matx33d>& b) { return a.first < b.first; });
+        }
+    }
+    // the start itself is always refined first (the grid's scores are biased: its silhouette is
+    // the start's, turned, not the one rendered at the turned pose)
+    starts.insert(starts.begin(), std::make_pair(0.0, Matx33d::eye()));
+    // the best few starts refined (render + Levenberg-Marquardt); the one with the most inliers
+    EdgeRefineResult best;
+    best.R = R0;
+    best.t = t0;
+    int iterations = 0;
+    bool any = false;
+    for (size_t h = 0; h < starts.size() && (int)h <= params.hypotheses; ++h)
+    {
+        const Matx33d& dR = starts[h].second;
+        const EdgeRefineResult r = refineFrom(renderer, handle, maps, K, dR * R0,
+                                              dR * (t0 - c) + c, params);
+        iterations += r.iterations;
+        if (r.points > 0 && (!any || r.inlier_ratio > best.inlier_ratio))
+        {
+            best = r;
+            any = true;
+        }
+    }
+    best.iterations = iterations;
+    return best;
+}
+
+static EdgeRefineResult refineFrom(Renderer& renderer, int handle, const EdgeMaps& maps,
+                                   const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
+                                   const EdgeRefineParams& params)
+{
+    EdgeRefineResult res;
+    res.R = R0;
+    res.t = t0;
+    std::vector<EdgePoint> pts;
+    for (int pass = 0; pass < params.passes; ++pass)
+    {
+        extractEdgePoints(renderer, handle, K, res.R, res.t, params, pts);
+        if (pts.size() < 6)
+            break;
+        // rotation centre: centroid of the edge points in the camera frame
+        Vec3d c(0, 0, 0);
+        for (size_t i = 0; i < pts.size(); ++i)
+            c += res.R * Vec3d(pts[i].model.x, pts[i].model.y, pts[i].model.z) + res.t;
+        c *= 1.0 / pts.size();
+        // coarse to fine: the truncation shrinks from max_distance to a third of it
+        const double top = std::min(params.max_distance, maps.max_distance);
+        const double dmax = params.passes == 1 ? top
+            : top * (1.0 - (2.0 / 3.0) * pass / (params.passes - 1));
+        double lambda = 1e-3;
+        Matx66d A;
+        Vec6d b;
+        double cost = edgeCost(pts, maps, dmax, K, res.R, res.t, params.huber, c, &A, &b, 0, 0, 0);
+        for (int it = 0; it < params.iterations; ++it)
+        {
+            ++res.iterations;
+            bool accepted = false;
+            for (int tries = 0; tries < 6 && !accepted; ++tries)
+            {
+                Matx66d H = A;
+                for (int k = 0; k < 6; ++k)
+                    H(k, k) += lambda * (A(k, k) + 1e-9);
+                Vec6d delta;
+                if (!solve(H, -b, delta, DECOMP_CHOLESKY))
+                {
+                    lambda *= 10;
+                    continue;
+                }
+                Matx33d dR;
+                Rodrigues(Vec3d(delta[0], delta[1], delta[2]), dR);
+                const Matx33d R2 = dR * res.R;
+                const Vec3d t2 = dR * (res.t - c) + c + Vec3d(delta[3], delta[4], delta[5]);
+                const double cost2 = edgeCost(pts, maps, dmax, K, R2, t2, params.huber, c, 0, 0, 0, 0,
+                                              0);
+                if (cost2 < cost)
+                {
+                    c += Vec3d(delta[3], delta[4], delta[5]); // the rotation centre moves with the object
+                    res.R = R2;
+                    res.t = t2;
+                    lambda = std::max(lambda * 0.3, 1e-7);
+                    cost = edgeCost(pts, maps, dmax, K, res.R, res.t, params.huber, c, &A, &b, 0, 0,
+                                    0);
+                    accepted = true;
+                }
+                else
+                    lambda *= 10;
+            }
+            if (!accepted)
+                break;
+        }
+    }
+    // quality at the final pose, with its own rendering
+    extractEdgePoints(renderer, handle, K, res.R, res.t, params, pts);
+    res.points = (int)pts.size();
+    int in = 0;
+    edgeCost(pts, maps, maps.max_distance, K, res.R, res.t, params.huber, Vec3d(), 0, 0, &in,
+             params.inlier_distance, &res.mean_distance);
+    res.inlier_ratio = pts.empty() ? 0.0 : double(in) / pts.size();
+    Vec3d c(0, 0, 0);
+    for (size_t i = 0; i < pts.size(); ++i)
+        c += Vec3d(pts[i].model.x, pts[i].model.y, pts[i].model.z);
+    res.center = pts.empty() ? c : c * (1.0 / pts.size());
+    return res;
+}
+
+} // namespace forestmod
+} // namespace cv
