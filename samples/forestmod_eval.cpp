@@ -44,8 +44,8 @@ static const char* keys
       "{modalities      |          | comma-separated ColorGradient, DepthNormal, ColorHue "
       "(default: ColorGradient,ColorHue; with depth ColorGradient,DepthNormal,ColorHue) }"
       "{threshold       | 80       | similarity threshold (percent) of both detectors }"
-      "{rgb_refine      |          | without depth: refine the best match's pose by edge alignment "
-      "(PoseParams::rgb_refine; default: the template's pose, as the issue asks) }"
+      "{rgb_refine      | true     | without depth: refine the best match's pose by edge alignment "
+      "(PoseParams::rgb_refine, refinePoseEdges); false: score the template's pose as is }"
       "{level           | 1        | view sampler: icosahedron subdivisions (1: ~32 deg, "
       "2: ~16 deg) }"
       "{min_elevation   | -15      | view sampler: lowest elevation (degrees) }"
@@ -1082,8 +1082,8 @@ int main(int argc, char** argv)
         printf("- accuracy of the best match per object: 2D = box of the projected model at the "
                "match's pose (%s), IoU >= 0.5 with bbox_obj; proj = 2D projection error < 5 px; "
                "ADD = ADD (ADI for symmetric objects) < 0.1 d after ICP (RGB-D only)\n\n",
-               use_depth ? "after ICP" : parser.has("rgb_refine") ? "refined by edge alignment"
-                                                                   : "the template's pose");
+               use_depth ? "after ICP" : parser.get<bool>("rgb_refine")
+                   ? "refined by edge alignment" : "the template's pose");
         fflush(stdout);
 
         const TrainThreads tt = { threads, train_threads };
@@ -1095,7 +1095,7 @@ int main(int argc, char** argv)
         ctx.frames = &frames;
         ctx.threshold = threshold;
         ctx.use_depth = use_depth;
-        ctx.rgb_refine = parser.has("rgb_refine");
+        ctx.rgb_refine = parser.get<bool>("rgb_refine");
         ctx.progress = &progress;
 
         // ---- Table 1: one object per model
