@@ -846,6 +846,14 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
                      const std::vector<String>& class_ids, OutputArrayOfArrays quantized_images,
                      const std::vector<Mat>& masks, DetectionStats* stats) const
 {
+    matchImpl(sources, threshold, matches, class_ids, quantized_images, masks, stats, true);
+}
+
+void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
+                         std::vector<Match>& matches, const std::vector<String>& class_ids,
+                         OutputArrayOfArrays quantized_images, const std::vector<Mat>& masks,
+                         DetectionStats* stats, bool nms) const
+{
     const int64 t0 = getTickCount();
     matches.clear();
     checkSources(modalities, sources, masks, "match");
@@ -1167,7 +1175,7 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
 
     std::sort(matches.begin(), matches.end(), MatchLess());
     matches.erase(std::unique(matches.begin(), matches.end()), matches.end());
-    if (params.nms_iou > 0.f && params.nms_iou < 1.f)
+    if (nms && params.nms_iou > 0.f && params.nms_iou < 1.f)
         nonMaximumSuppression(matches, class_templates, params.nms_iou);
     if (stats)
     {

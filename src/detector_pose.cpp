@@ -16,7 +16,7 @@ namespace forestmod {
 
 PoseParams::PoseParams()
     : max_per_class(3), icp(true), icp_passes(2), depth_check_tolerance(0.05),
-      min_depth_agreement(0.5), rgb_refine(true)
+      min_depth_agreement(0.5), rgb_refine(true), rgb_hypotheses(8)
 {
 }
 
@@ -38,6 +38,8 @@ void PoseParams::read(const FileNode& fn)
         rgb_refine = (int)fn["rgb_refine"] != 0;
     if (!fn["edge_params"].empty())
         edge_params.read(fn["edge_params"]);
+    if (!fn["rgb_hypotheses"].empty())
+        rgb_hypotheses = (int)fn["rgb_hypotheses"];
 }
 
 void PoseParams::write(FileStorage& fs) const
@@ -51,6 +53,7 @@ void PoseParams::write(FileStorage& fs) const
     fs << "edge_params" << "{";
     edge_params.write(fs);
     fs << "}";
+    fs << "rgb_hypotheses" << rgb_hypotheses;
 }
 
 void Detector::setMesh(const String& class_id, const Mesh& mesh)
@@ -92,6 +95,7 @@ void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<Po
 {
     CV_CheckGT(params.icp_passes, 0, "PoseParams: icp_passes must be positive");
     CV_CheckGE(params.max_per_class, 0, "PoseParams: max_per_class must be >= 0");
+    CV_CheckGE(params.rgb_hypotheses, 1, "PoseParams: rgb_hypotheses must be >= 1");
     CV_CheckGT(params.depth_check_tolerance, 0.0, "PoseParams: depth_check_tolerance must be > 0");
     Mat depth = _depth.getMat();
     if (!depth.empty() && depth.type() != CV_16UC1)
@@ -128,6 +132,7 @@ void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<Po
         PoseMatch m = matches[i];
         m.has_pose = m.refined = false;
         m.depth_agreement = -1;
+        m.edge_fit = -1;
         if (!m.pose.valid)
         {
             kept.push_back(m);
@@ -194,6 +199,7 @@ void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<Po
                     m.R = er.R;
                     m.t = er.t;
                     m.refined = true;
+                    m.edge_fit = er.inlier_ratio;
                 }
                 ++done;
             }
@@ -204,20 +210,102 @@ void Detector::estimatePoses(InputArray _depth, const Matx33d& K, std::vector<Po
     matches.swap(kept);
 }
 
+static PoseMatch toPoseMatch(const Detector& det, const linemod::Match& m)
+{
+    PoseMatch pm(m);
+    const linemod::Template& t0 = det.getTemplates(m.class_id, m.template_id)[0];
+    pm.box = Rect(m.x, m.y, t0.width, t0.height);
+    pm.pose = det.getTemplatePose(m.class_id, m.template_id);
+    return pm;
+}
+
 void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
                       std::vector<PoseMatch>& matches, const std::vector<String>& class_ids,
                       const PoseParams& params, DetectionStats* stats) const
 {
-    match(sources, threshold, matches, class_ids, std::vector<Mat>(), stats);
+    CV_CheckGE(params.rgb_hypotheses, 1, "PoseParams: rgb_hypotheses must be >= 1");
     Mat depth, color;
-    for (size_t i = 0; i < modalities.size(); ++i)
+    for (size_t i = 0; i < modalities.size() && i < sources.size(); ++i)
     {
         if (modalities[i]->name() == "DepthNormal")
             depth = sources[i];
         else if (sources[i].type() == CV_8UC3 && color.empty())
             color = sources[i];
     }
-    estimatePoses(depth, K, matches, params, color);
+    const float nms_iou = impl_->params.nms_iou;
+    const bool choose = depth.empty() && !color.empty() && params.rgb_refine
+        && params.rgb_hypotheses > 1 && nms_iou > 0.f && nms_iou < 1.f;
+    if (!choose)
+    {
+        match(sources, threshold, matches, class_ids, std::vector<Mat>(), stats);
+        estimatePoses(depth, K, matches, params, color);
+        return;
+    }
+    // all matches, then non-maximum suppression that keeps each detection's group: the matches
+    // of its class at overlapping locations (as nonMaximumSuppression() in detector.cpp)
+    std::vector<linemod::Match> all;
+    matchImpl(sources, threshold, all, class_ids, noArray(), std::vector<Mat>(), stats, false);
+    std::vector<PoseMatch> leaders;
+    std::vector<std::vector<PoseMatch> > groups;
+    for (size_t i = 0; i < all.size(); ++i)
+    {
+        PoseMatch pm = toPoseMatch(*this, all[i]);
+        const Rect box(pm.x, pm.y, std::max(1, pm.box.width), std::max(1, pm.box.height));
+        int owner = -1;
+        for (size_t j = 0; j < leaders.size() && owner < 0; ++j)
+        {
+            const Rect& lb = leaders[j].box;
+            const Rect b2(lb.x, lb.y, std::max(1, lb.width), std::max(1, lb.height));
+            const double inter = (box & b2).area();
+            const double uni = box.area() + b2.area() - inter;
+            if (uni > 0 && inter / uni > nms_iou)
+                owner = (int)j;
+        }
+        if (owner < 0)
+        {
+            leaders.push_back(pm);
+            groups.push_back(std::vector<PoseMatch>(1, pm));
+        }
+        else if (all[i].class_id == leaders[owner].class_id
+                 && (int)groups[owner].size() < params.rgb_hypotheses)
+            groups[owner].push_back(pm);
+    }
+    // the best max_per_class detections of each class: every hypothesis of the group refined,
+    // the best edge fit kept; the other detections get their template's pose
+    matches.clear();
+    std::map<String, int> per_class;
+    PoseParams one = params;
+    one.max_per_class = params.rgb_hypotheses;
+    PoseParams plain = params;
+    plain.rgb_refine = false;
+    for (size_t g = 0; g < groups.size(); ++g)
+    {
+        std::vector<PoseMatch>& hyps = groups[g];
+        if (per_class[leaders[g].class_id]++ >= params.max_per_class)
+        {
+            hyps.resize(1);
+            estimatePoses(noArray(), K, hyps, plain);
+            matches.push_back(hyps[0]);
+            continue;
+        }
+        estimatePoses(noArray(), K, hyps, one, color);
+        size_t best = 0;
+        for (size_t h = 1; h < hyps.size(); ++h)
+            if (hyps[h].edge_fit > hyps[best].edge_fit)
+                best = h;
+        // the detection keeps its position, box and score (the ranking stays the matcher's);
+        // template, pose label and pose come from the chosen hypothesis
+        PoseMatch m = hyps[0];
+        const PoseMatch& h = hyps[best];
+        m.template_id = h.template_id;
+        m.pose = h.pose;
+        m.has_pose = h.has_pose;
+        m.R = h.R;
+        m.t = h.t;
+        m.refined = h.refined;
+        m.edge_fit = h.edge_fit;
+        matches.push_back(m);
+    }
 }
 
 } // namespace forestmod

@@ -90,6 +90,72 @@ TEST(Forestmod_DetectorPose, rgbd_scenes_give_correct_poses)
     EXPECT_LT(rgb_err, 0.5 * rgb_err_unrefined); // measured 3.3 -> 0.67 px
 }
 
+// Without depth, detect() picks each detection's pose among the matches of its class that
+// non-maximum suppression merges into it (PoseParams::rgb_hypotheses), by the edge fit.
+TEST(Forestmod_DetectorPose, rgb_detect_chooses_pose_among_overlapping_matches)
+{
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    ViewSampler::Params sp;
+    sp.level = 1;
+    sp.min_elevation = 15;
+    sp.radii = std::vector<double>(1, 800.0);
+    sp.inplane_min = -20;
+    sp.inplane_max = 20;
+    sp.inplane_step = 20;
+    const ViewSampler sampler(sp);
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    ASSERT_GT(det->addTemplates(ape, "ape", sampler, lmoK(), Size(640, 480)), 0);
+    det->train();
+
+    Ptr<Renderer> renderer = Renderer::create(Size(640, 480));
+    SyntheticSceneParams ssp;
+    ssp.max_perturbation_deg = 10;
+    SceneSynthesizer synth(renderer, lmoK(), ssp);
+    synth.addObject(ape);
+    std::vector<Mat> bg(1, imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png")));
+    synth.setBackgrounds(bg);
+    const std::vector<ViewPose> views = sampler.poses(Point3d(ape.center().x, ape.center().y,
+                                                              ape.center().z));
+    RNG rng(11);
+    PoseParams one;
+    one.rgb_hypotheses = 1;
+    int n = 0, chose_other = 0;
+    double err_one = 0, err_many = 0;
+    for (int k = 0; k < 6; ++k)
+    {
+        const ViewPose& v = views[rng.uniform(0, (int)views.size())];
+        const SyntheticScene scene = synth.render(0, v.R, v.t, rng);
+        const std::vector<Mat> src(2, scene.color);
+        std::vector<PoseMatch> many, single;
+        det->detect(src, lmoK(), 80.f, many);
+        det->detect(src, lmoK(), 80.f, single, std::vector<String>(), one);
+        ASSERT_EQ(single.size(), many.size());
+        if (many.empty())
+            continue;
+        // same detections (position, score), only the pose may differ
+        EXPECT_EQ(single[0].x, many[0].x);
+        EXPECT_EQ(single[0].y, many[0].y);
+        EXPECT_EQ(single[0].similarity, many[0].similarity);
+        ASSERT_TRUE(many[0].refined && single[0].refined);
+        EXPECT_GE(many[0].edge_fit, 0.0);
+        EXPECT_LE(many[0].edge_fit, 1.0);
+        // the detection's own template is among the hypotheses: the choice fits at least as well
+        EXPECT_GE(many[0].edge_fit, single[0].edge_fit - 1e-9);
+        EXPECT_TRUE(many[0].pose.valid);
+        chose_other += many[0].template_id != single[0].template_id;
+        err_one += projectionError2D(ape.vertices, lmoK(), single[0].R, single[0].t, scene.R,
+                                     scene.t);
+        err_many += projectionError2D(ape.vertices, lmoK(), many[0].R, many[0].t, scene.R,
+                                      scene.t);
+        ++n;
+    }
+    ASSERT_GE(n, 5);
+    std::cout << "[ INFO    ] mean 2D projection error: " << err_one / n << " px (1 hypothesis), "
+              << err_many / n << " px (" << PoseParams().rgb_hypotheses << "); another template "
+              << "chosen in " << chose_other << " of " << n << " scenes" << std::endl;
+    EXPECT_LE(err_many, err_one + 0.5 * n);
+}
+
 TEST(Forestmod_DetectorPose, bad_input_raises)
 {
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
@@ -99,6 +165,9 @@ TEST(Forestmod_DetectorPose, bad_input_raises)
     PoseParams p;
     p.icp_passes = 0;
     EXPECT_THROW(det->estimatePoses(noArray(), lmoK(), m, p), cv::Exception);
+    PoseParams q;
+    q.rgb_hypotheses = 0;
+    EXPECT_THROW(det->estimatePoses(noArray(), lmoK(), m, q), cv::Exception);
     Mesh empty;
     EXPECT_THROW(det->setMesh("x", empty), cv::Exception);
 }

@@ -27,7 +27,7 @@ TEST(Forestmod_Samples, detect_finds_the_shipped_ape)
     const std::string root = cvtest::findDataFile("lmo_mini/camera.json");
     const std::string dataset = root.substr(0, root.find_last_of('/'));
 
-    // the demo's sampler, one distance (frame 224 shows the ape at 711 mm)
+    // the demo's sampler, one distance (frame 224 shows the ape at 701 mm)
     const Mesh ape = Mesh::load(dataset + "/models/obj_000001.ply");
     ViewSampler::Params sp;
     sp.level = 2;
@@ -47,33 +47,39 @@ TEST(Forestmod_Samples, detect_finds_the_shipped_ape)
     const std::string model = cv::tempfile(".yml.gz");
     det->save(model);
 
-    const std::string out = cv::tempfile(".txt"), png = cv::tempfile(".png");
-    const std::string cmd = "'" + exe + "' --model='" + model + "' --dataset='" + dataset
-        + "' --scene=2 --frame=224 --out='" + png + "' > '" + out + "' 2>&1";
-    const int rc = std::system(cmd.c_str());
-    const std::string text = slurp(out);
+    // frame 224: the ape fully visible (the demo's frame 902, where the pose comes from another
+    // hypothesis of the detection, PoseParams::rgb_hypotheses, is not asserted: with this
+    // one-distance model another place of that frame scores higher)
+    const int frames[] = { 224 };
+    for (int k = 0; k < 1; ++k)
+    {
+        const std::string out = cv::tempfile(".txt"), png = cv::tempfile(".png");
+        const std::string cmd = "'" + exe + "' --model='" + model + "' --dataset='" + dataset
+            + "' --scene=2 --frame=" + std::to_string(frames[k]) + " --out='" + png + "' > '"
+            + out + "' 2>&1";
+        const int rc = std::system(cmd.c_str());
+        const std::string text = slurp(out);
+        std::remove(out.c_str());
+        EXPECT_EQ(0, rc) << text;
+        EXPECT_TRUE(utils::fs::exists(png)) << text;
+        std::remove(png.c_str());
+        // "... 2D projection error 4.6 px (< 5 px), box IoU 0.90 (>= 0.5)"
+        const size_t at = text.find("vs ground truth");
+        ASSERT_NE(std::string::npos, at) << text;
+        const size_t pe = text.find("2D projection error", at), bi = text.find("box IoU", at);
+        ASSERT_NE(std::string::npos, pe) << text;
+        ASSERT_NE(std::string::npos, bi) << text;
+        const double proj = atof(text.c_str() + pe + strlen("2D projection error"));
+        const double iou = atof(text.c_str() + bi + strlen("box IoU"));
+        std::cout << "[ INFO    ] frame " << frames[k] << ": box IoU " << iou
+                  << ", 2D projection error " << proj << " px" << std::endl;
+        // issue 7's criteria without depth: the box, and the pose (template views 16 degrees
+        // apart, in-plane steps of 20 degrees; refined by edge alignment) within 5 px
+        EXPECT_GE(iou, 0.5) << text;
+        EXPECT_GE(proj, 0.0) << text;
+        EXPECT_LT(proj, 5.0) << text;
+    }
     std::remove(model.c_str());
-    std::remove(out.c_str());
-    EXPECT_EQ(0, rc) << text;
-    EXPECT_TRUE(utils::fs::exists(png)) << text;
-    std::remove(png.c_str());
-    // "... 2D projection error 4.6 px (< 5 px), box IoU 0.90 (>= 0.5)"
-    const size_t at = text.find("vs ground truth");
-    ASSERT_NE(std::string::npos, at) << text;
-    double proj = -1, iou = -1;
-    const size_t pe = text.find("2D projection error", at), bi = text.find("box IoU", at);
-    ASSERT_NE(std::string::npos, pe) << text;
-    ASSERT_NE(std::string::npos, bi) << text;
-    proj = atof(text.c_str() + pe + strlen("2D projection error"));
-    iou = atof(text.c_str() + bi + strlen("box IoU"));
-    EXPECT_GE(iou, 0.5) << text;
-    // issue 7's pose criterion without depth: the template's pose (views 16 degrees apart,
-    // in-plane steps of 20 degrees), refined by aligning the rendered silhouette with the image's
-    // edges (refinePoseEdges), projects within 5 px of the ground truth
-    std::cout << "[ INFO    ] frame 224: box IoU " << iou << ", 2D projection error " << proj
-              << " px" << std::endl;
-    EXPECT_GE(proj, 0.0) << text;
-    EXPECT_LT(proj, 5.0) << text;
 }
 
 }} // namespace

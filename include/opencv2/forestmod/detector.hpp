@@ -165,6 +165,15 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
     CV_PROP_RW bool rgb_refine;
     /** Parameters of that refinement (see EdgeRefineParams). */
     CV_PROP_RW EdgeRefineParams edge_params;
+    /** detect() without depth: the pose of each detection is chosen among this many matches of
+    its class at overlapping locations (those that non-maximum suppression merges into it,
+    best first), each refined by edge alignment; the one with the highest edge_fit gives the
+    detection its template_id, pose label and pose (position, box and score stay the
+    detection's, so the ranking is the matcher's). Template matching often ranks a
+    wrong view of the object first (front / back); on the 50 real LM-O frames this took the ape's
+    poses under 5 px from 6 to 11 of 26 detections (doc/pose.md). 1 = the best match's own
+    template only. Default 8. */
+    CV_PROP_RW int rgb_hypotheses;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
@@ -173,9 +182,10 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
 /** @brief A match with what cv::linemod::Match lacks: the template's pose label. */
 struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
 {
-    CV_WRAP PoseMatch() : has_pose(false), refined(false), depth_agreement(-1) {}
+    CV_WRAP PoseMatch() : has_pose(false), refined(false), depth_agreement(-1), edge_fit(-1) {}
     CV_WRAP PoseMatch(const cv::linemod::Match& m)
-        : cv::linemod::Match(m), has_pose(false), refined(false), depth_agreement(-1)
+        : cv::linemod::Match(m), has_pose(false), refined(false), depth_agreement(-1),
+          edge_fit(-1)
     {
     }
     CV_PROP_RW Rect box;          //!< the template's box at the match (level 0 pixels)
@@ -184,9 +194,12 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
     CV_PROP_RW bool has_pose;     //!< R, t below are set
     CV_PROP_RW Matx33d R;         //!< estimated pose in the scene camera, model -> camera
     CV_PROP_RW Vec3d t;           //!< mm
-    CV_PROP_RW bool refined;      //!< R, t refined (ICP with depth, rendering search without)
+    CV_PROP_RW bool refined;      //!< R, t refined (ICP with depth, edge alignment without)
     CV_PROP_RW ICPResult icp;     //!< ICP result when refined
     CV_PROP_RW double depth_agreement; //!< depth check of the final pose, -1 when not checked
+    /** Without depth: inlier ratio of the edge alignment (EdgeRefineResult::inlier_ratio), -1
+    when the pose was not refined that way. */
+    CV_PROP_RW double edge_fit;
 };
 
 /** @brief LINEMOD detector searched through a fuzzy template forest (Shao, Tang, Kim).
@@ -313,6 +326,13 @@ public:
     struct Impl;
 
 private:
+    // match() with stats; nms = false returns the matches before non-maximum suppression
+    // (detect() picks a pose among the overlapping ones)
+    void matchImpl(const std::vector<Mat>& sources, float threshold,
+                   std::vector<cv::linemod::Match>& matches,
+                   const std::vector<String>& class_ids, OutputArrayOfArrays quantized_images,
+                   const std::vector<Mat>& masks, DetectionStats* stats, bool nms) const;
+
     Ptr<Impl> impl_;
 };
 
