@@ -295,15 +295,11 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
                 best = h;
         // the detection keeps its position, box and score (the ranking stays the matcher's);
         // template, pose label and pose come from the chosen hypothesis
-        PoseMatch m = hyps[0];
-        const PoseMatch& h = hyps[best];
-        m.template_id = h.template_id;
-        m.pose = h.pose;
-        m.has_pose = h.has_pose;
-        m.R = h.R;
-        m.t = h.t;
-        m.refined = h.refined;
-        m.edge_fit = h.edge_fit;
+        PoseMatch m = hyps[best];
+        m.x = hyps[0].x;
+        m.y = hyps[0].y;
+        m.similarity = hyps[0].similarity;
+        m.box = hyps[0].box;
         matches.push_back(m);
     }
 }

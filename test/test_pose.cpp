@@ -10,12 +10,6 @@ namespace {
 
 using namespace pose_test;
 
-static const Mesh& apeMesh()
-{
-    static Mesh m = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
-    return m;
-}
-
 static const double kApeDiameter = 102.099; // lmo_mini/models/models_info.json
 
 /** A scene around the object at (R, t): the object in front of a tilted table plane; with

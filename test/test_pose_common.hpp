@@ -13,6 +13,13 @@
 namespace opencv_test {
 namespace pose_test {
 
+/** The shipped LM-O ape (lmo_mini), loaded once. */
+inline const Mesh& apeMesh()
+{
+    static Mesh m = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    return m;
+}
+
 /** A renderer of `size` with one mesh uploaded. */
 struct MeshRenderer
 {

@@ -12,12 +12,6 @@ namespace {
 
 using namespace pose_test;
 
-static const Mesh& apeMesh()
-{
-    static Mesh m = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
-    return m;
-}
-
 /** The rendered ape at (R, t) pasted onto a real LM-O frame (shipped), whose clutter gives the
 edge maps plenty of wrong edges. */
 static Mat pasteOnRealFrame(MeshRenderer& mr, const Matx33d& R, const Vec3d& t, const Matx33d& K)
