@@ -143,7 +143,7 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_PROP double t_total_ms;       //!< the whole call
     CV_PROP int64 locations;         //!< locations visited on the coarsest level
     CV_PROP int64 rejected;          //!< locations rejected before validation (all causes)
-    CV_PROP int64 rejected_flat;     //!< of which: window nearly without labels (before the forest)
+    CV_PROP int64 rejected_flat;     //!< of which: window nearly without labels in every search group
     CV_PROP int64 rejected_depth_range; //!< of which: scene depth outside the templates' range
     CV_PROP int64 validated;         //!< locations that reached validation with candidates
     CV_PROP int64 candidates;        //!< candidate templates validated, summed over locations
