@@ -33,7 +33,8 @@ DetectorParams::DetectorParams()
     : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
       grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(10),
       min_window_labels(0.5f), depth_range_margin(0), dominant_window(3),
-      group_size_ratio(1.3f), max_group_classes(0), auto_depth_leaf_samples(2.f)
+      group_size_ratio(1.3f), max_group_classes(0), auto_depth_leaf_samples(2.f),
+      grey_hue_label(false)
 {
     forest.max_depth = 0; // chosen at train() per search group (auto_depth_leaf_samples)
     // rejectors over dims that half the node's templates cover, and more of them: measured on
@@ -78,6 +79,8 @@ void DetectorParams::read(const FileNode& fn)
         max_group_classes = (int)fn["max_group_classes"];
     if (!fn["auto_depth_leaf_samples"].empty())
         auto_depth_leaf_samples = (float)fn["auto_depth_leaf_samples"];
+    if (!fn["grey_hue_label"].empty())
+        grey_hue_label = (int)fn["grey_hue_label"] != 0;
 }
 
 void DetectorParams::write(FileStorage& fs) const
@@ -101,6 +104,7 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "group_size_ratio" << group_size_ratio;
     fs << "max_group_classes" << max_group_classes;
     fs << "auto_depth_leaf_samples" << auto_depth_leaf_samples;
+    fs << "grey_hue_label" << (int)grey_hue_label;
 }
 
 static void checkParams(const DetectorParams& p)
@@ -176,6 +180,41 @@ static void dominantLabels(const Mat& quantized, const Mat& mask, int k, Mat& ds
                 }
         }
     }
+}
+
+// The forest's view of a ColorHue plane with grey_hue_label: the 8 hue bins merged into 7 (bits
+// 0..6) and "no reliable hue" (0) as a label of its own (bit 7, GREY_BIT), for the templates (on
+// their mask) and the scene alike: a white or grey surface is then evidence (doc/detector.md,
+// "Colourless objects"). The flat-window count ignores GREY_BIT.
+static const uchar GREY_BIT = 0x80;
+
+static void greyHueLabels(const Mat& quantized, const Mat& mask, Mat& dst)
+{
+    uchar lut[256];
+    for (int v = 0; v < 256; ++v)
+    {
+        int b = -1;
+        for (int k = 0; k < 8; ++k)
+            if (v & (1 << k))
+            {
+                b = k;
+                break;
+            }
+        lut[v] = b < 0 ? GREY_BIT : (uchar)(1 << (b * 7 / 8));
+    }
+    LUT(quantized, Mat(1, 256, CV_8U, lut), dst);
+    if (!mask.empty())
+        dst.setTo(0, mask == 0);
+}
+
+static std::vector<int> hueModalities(const std::vector<Ptr<Modality> >& modalities,
+                                      const DetectorParams& p)
+{
+    std::vector<int> hue(modalities.size(), 0);
+    if (p.grey_hue_label)
+        for (size_t i = 0; i < modalities.size(); ++i)
+            hue[i] = modalities[i]->name() == "ColorHue";
+    return hue;
 }
 
 static Mat downsampleNearest(const Mat& img, int levels)
@@ -603,10 +642,12 @@ static void templateDescriptor(const TemplatePyramid& tp, const DensePatch& patc
 // forest row -> template table.
 static void buildGroups(Detector::Impl& impl,
                         const std::map<String, std::vector<TemplatePyramid> >& class_templates,
-                        int M, int L)
+                        int M, int L, const std::vector<int>& grey_hue)
 {
     impl.rows.clear();
-    std::vector<std::pair<int, String> > by_size;
+    // (colourless, size), class: with grey_hue_label, classes without hue (most of their
+    // templates have no hue feature) form groups of their own, whose forests read the grey label
+    std::vector<std::pair<std::pair<int, int>, String> > by_size;
     std::map<String, int> first_row;
     for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
          it != class_templates.end(); ++it)
@@ -624,7 +665,20 @@ static void buildGroups(Detector::Impl& impl,
             ref.template_id = static_cast<int>(i);
             impl.rows.push_back(ref);
         }
-        by_size.push_back(std::make_pair(extent, it->first));
+        int colourless = 0;
+        bool has_hue = false;
+        for (int m = 0; m < M && m < (int)grey_hue.size(); ++m)
+            if (grey_hue[m])
+            {
+                has_hue = true;
+                int without = 0;
+                for (size_t i = 0; i < it->second.size(); ++i)
+                    without += it->second[i][L * M + m].features.empty();
+                colourless = 2 * without > (int)it->second.size();
+            }
+        if (!has_hue)
+            colourless = 0;
+        by_size.push_back(std::make_pair(std::make_pair(colourless, extent), it->first));
     }
     std::sort(by_size.begin(), by_size.end());
     const float ratio = impl.params.group_size_ratio;
@@ -633,13 +687,16 @@ static void buildGroups(Detector::Impl& impl,
     int group_extent = 0;
     for (size_t k = 0; k < by_size.size(); ++k)
     {
-        const bool fits = !impl.groups.empty()
-            && (ratio <= 0.f || by_size[k].first <= ratio * group_extent)
+        const int extent = by_size[k].first.second;
+        const bool grey = by_size[k].first.first != 0;
+        const bool fits = !impl.groups.empty() && impl.groups.back().grey == grey
+            && (ratio <= 0.f || extent <= ratio * group_extent)
             && (max_classes <= 0 || (int)impl.groups.back().classes.size() < max_classes);
         if (!fits)
         {
             impl.groups.push_back(SearchGroup());
-            group_extent = by_size[k].first;
+            impl.groups.back().grey = grey;
+            group_extent = extent;
         }
         SearchGroup& g = impl.groups.back();
         g.classes.push_back(by_size[k].second);
@@ -688,10 +745,10 @@ static double buildGeometry(const Detector::Impl& impl, SearchGroup& group,
 // reads the trained forests. desc / fg / ids: one matrix per group; ids are group rows.
 static void prepareTraining(Detector::Impl& impl,
                             std::map<String, std::vector<TemplatePyramid> >& class_templates,
-                            int M, int L, int T, std::vector<Mat>& descs, std::vector<Mat>& fgs,
-                            std::vector<Mat>& idss)
+                            int M, int L, int T, const std::vector<int>& grey_hue,
+                            std::vector<Mat>& descs, std::vector<Mat>& fgs, std::vector<Mat>& idss)
 {
-    buildGroups(impl, class_templates, M, L);
+    buildGroups(impl, class_templates, M, L, grey_hue);
 
     // each template also as seen from locations up to `a` pixels off its anchor (the scene is
     // queried every location_step pixels): doc/forest.md, "Misaligned windows"
@@ -734,8 +791,12 @@ static void prepareTraining(Detector::Impl& impl,
                 patch.mask = raw.mask;
                 patch.quantized.resize(raw.quantized.size());
                 for (size_t m = 0; m < raw.quantized.size(); ++m)
-                    dominantLabels(raw.quantized[m], raw.mask, impl.params.dominant_window,
-                                   patch.quantized[m]);
+                {
+                    Mat q = raw.quantized[m];
+                    if (group.grey && m < grey_hue.size() && grey_hue[m])
+                        greyHueLabels(raw.quantized[m], raw.mask, q);
+                    dominantLabels(q, raw.mask, impl.params.dominant_window, patch.quantized[m]);
+                }
             }
             for (int k = 0; k < R; ++k)
             {
@@ -744,10 +805,25 @@ static void prepareTraining(Detector::Impl& impl,
                 ids.at<int>(r * R + k) = r;
             }
         }
-        // flat-window rejection: the fewest labelled values any training descriptor has
+        // flat-window rejection: the fewest labelled values any training descriptor has (the
+        // grey hue label does not count: a uniform grey window stays flat)
+        group.flat_mask.assign(M * P, 0xFF);
+        for (int m = 0; m < M; ++m)
+            if (group.grey && m < (int)grey_hue.size() && grey_hue[m])
+                for (int g = 0; g < P; ++g)
+                {
+                    group.flat_mask[m * P + g] = (uchar)~GREY_BIT;
+                    group.plane_of[m * P + g] = M + m; // the scene's grey-labelled hue plane
+                }
         group.min_labels = M * P;
         for (int i = 0; i < desc.rows; ++i)
-            group.min_labels = std::min(group.min_labels, countNonZero(desc.row(i)));
+        {
+            const uchar* d = desc.ptr(i);
+            int labels = 0;
+            for (int j = 0; j < M * P; ++j)
+                labels += (d[j] & group.flat_mask[j]) != 0;
+            group.min_labels = std::min(group.min_labels, labels);
+        }
     }
     // out-of-depth-range rejection: the templates' depth range, probed at the anchor and around
     // it within a third of the smallest template
@@ -790,7 +866,8 @@ void Detector::train()
 
     std::vector<Mat> descs, fgs, idss;
     impl.trained = false;
-    prepareTraining(impl, class_templates, M, L, T_at_level[L], descs, fgs, idss);
+    prepareTraining(impl, class_templates, M, L, T_at_level[L],
+                    hueModalities(modalities, impl.params), descs, fgs, idss);
 
     for (size_t gi = 0; gi < impl.groups.size(); ++gi)
     {
@@ -1061,12 +1138,17 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
         const int NG = (int)groups.size();
         const int S = std::min(locationStep(params, T), T);
         const int W = (top.size.width + S - 1) / S, H = (top.size.height + S - 1) / S;
-        std::vector<const uchar*> planes(M);
+        // planes M + m: the grey-labelled view of hue plane m, for the colourless groups
+        std::vector<const uchar*> planes(2 * M, (const uchar*)0);
         // the forest reads the plain quantized images (one label per point, as the templates it
         // was trained on; spreading would add labels and mislead the splits: doc/forest.md) up to
         // half a template around a location: a zero border of that size keeps every read inside
         // the buffer without a bounds check per value
-        std::vector<Mat> bordered(M);
+        std::vector<Mat> bordered(2 * M);
+        const std::vector<int> grey_hue = hueModalities(modalities, params);
+        bool any_grey = false;
+        for (int gi = 0; gi < NG; ++gi)
+            any_grey = any_grey || groups[gi]->grey;
         const int B = (max_extent >> L) + 2 * T + 2;
         for (int m = 0; m < M; ++m)
         {
@@ -1074,6 +1156,14 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
             dominantLabels(top.quantized[m], Mat(), params.dominant_window, dominant);
             copyMakeBorder(dominant, bordered[m], B, B, B, B, BORDER_CONSTANT, Scalar(0));
             planes[m] = bordered[m].ptr();
+            if (any_grey && grey_hue[m])
+            {
+                Mat q;
+                greyHueLabels(top.quantized[m], Mat(), q);
+                dominantLabels(q, Mat(), params.dominant_window, dominant);
+                copyMakeBorder(dominant, bordered[M + m], B, B, B, B, BORDER_CONSTANT, Scalar(0));
+                planes[M + m] = bordered[M + m].ptr();
+            }
         }
         const size_t step = bordered[0].step;
         std::vector<std::vector<int> > deltas(NG);
@@ -1158,7 +1248,7 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
                             const int D = (int)grp.plane_of.size();
                             int labels = 0;
                             for (int j = 0; j < D; ++j)
-                                labels += view.value(j) != 0;
+                                labels += (view.value(j) & grp.flat_mask[j]) != 0;
                             if (labels < min_labels[gi])
                             {
                                 ++flat;
@@ -1404,6 +1494,9 @@ void Detector::read(const FileNode& fn)
             p.group_size_ratio = 0.f;
             p.max_group_classes = 0;
         }
+        // written before the grey hue label existed: the forests read the plain hue
+        if (fn["forestmod_params"]["grey_hue_label"].empty())
+            p.grey_hue_label = false;
     }
     checkParams(p);
     AutoLock lock(impl_->mutex);
@@ -1775,7 +1868,8 @@ void Detector::load(const String& filename)
         AutoLock lock(impl_->mutex);
         std::vector<Mat> desc, fg, ids;
         prepareTraining(*impl_, class_templates, (int)modalities.size(), pyramid_levels - 1,
-                        T_at_level.back(), desc, fg, ids);
+                        T_at_level.back(), hueModalities(modalities, impl_->params), desc, fg,
+                        ids);
         if (forests.size() != impl_->groups.size())
             CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' holds %d forests, "
                                              "its templates and parameters make %d search groups "

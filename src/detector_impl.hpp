@@ -36,9 +36,11 @@ struct SearchGroup
     std::vector<int> plane_of;            //!< per descriptor dimension
     std::vector<Point> dim_offset;        //!< per descriptor dimension
     int min_labels;                       //!< fewest labelled values of a training descriptor
+    std::vector<uchar> flat_mask;         //!< per dimension: the bits the flat-window test counts
     Ptr<TemplateForest> forest;
+    bool grey;                            //!< colourless classes: hue read with the grey label
 
-    SearchGroup() : min_labels(0) {}
+    SearchGroup() : min_labels(0), grey(false) {}
 };
 
 struct Detector::Impl
