@@ -56,6 +56,10 @@ static const char* keys
       "{min_labels     | -1      | min_window_labels }"
       "{dominant       | -1      | dominant_window }"
       "{depth_margin   | -1      | depth_range_margin (mm, 0: off) }"
+      "{gratio         | -1      | group_size_ratio (0: no size limit) }"
+      "{gclasses       | -1      | max_group_classes (0: no limit, 1: a forest per class) }"
+      "{leaf_samples   | -1      | auto_depth_leaf_samples (0: the paper's depth) }"
+      "{grey           | -1      | grey_hue_label (0/1) }"
       "{k              | -1      | max_survivors }"
       "{chunk          | -1      | chunk_size }"
       "{alpha          | -1      | alpha }"
@@ -184,6 +188,10 @@ int main(int argc, char** argv)
     BENCH_SET("min_labels", min_window_labels, float)
     BENCH_SET("dominant", dominant_window, int)
     BENCH_SET("depth_margin", depth_range_margin, int)
+    BENCH_SET("gratio", group_size_ratio, float)
+    BENCH_SET("gclasses", max_group_classes, int)
+    BENCH_SET("leaf_samples", auto_depth_leaf_samples, float)
+    BENCH_SET("grey", grey_hue_label, bool)
     BENCH_SET("k", max_survivors, int)
     BENCH_SET("chunk", chunk_size, int)
     BENCH_SET("alpha", alpha, float)
@@ -309,12 +317,22 @@ int main(int argc, char** argv)
             const int64 tt0 = getTickCount();
             forest.train();
             const double train_ms = (getTickCount() - tt0) * 1000.0 / getTickFrequency();
-            const TemplateForest::Statistics fs = forest.getForest()->statistics();
-            std::printf("detector %d: %d templates, %d classes, train %.0f ms, forest %d trees "
-                        "depth %d, %d leaves, %.1f templates/leaf, %.2f leaves/template\n",
-                        g, forest.numTemplates(), (int)forest.classIds().size(), train_ms,
-                        fs.trees, fs.max_depth, fs.leaves, fs.mean_leaf_size,
-                        fs.mean_leaves_per_template);
+            std::printf("detector %d: %d templates, %d classes, train %.0f ms, %d search "
+                        "groups\n", g, forest.numTemplates(), (int)forest.classIds().size(),
+                        train_ms, forest.numSearchGroups());
+            for (int sg = 0; sg < forest.numSearchGroups(); ++sg)
+            {
+                const TemplateForest::Statistics fs = forest.getForest(sg)->statistics();
+                const std::vector<String> gc = forest.getSearchGroupClasses(sg);
+                std::string names;
+                for (size_t c = 0; c < gc.size(); ++c)
+                    names += (c ? "," : "") + gc[c];
+                std::printf("  group %d (%s): %d templates, forest %d trees depth %d, %d "
+                            "leaves, %.1f templates/leaf, %.2f leaves/template\n", sg,
+                            names.c_str(), forest.getForest(sg)->numTemplates(), fs.trees,
+                            fs.max_depth, fs.leaves, fs.mean_leaf_size,
+                            fs.mean_leaves_per_template);
+            }
             for (int o = o0; o < o1; ++o)
             {
                 const String cls = cv::format("obj%d", ids[o]);

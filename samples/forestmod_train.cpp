@@ -165,10 +165,16 @@ int main(int argc, char** argv)
         tm.start();
         detector->train();
         tm.stop();
-        const cv::forestmod::TemplateForest::Statistics st = detector->getForest()->statistics();
-        fprintf(stderr, "forest: %d trees, %d nodes, %d leaves, depth %d, %.1f templates per leaf, "
-                        "%.1f ms\n", st.trees, st.nodes, st.leaves, st.max_depth, st.mean_leaf_size,
-                tm.getTimeMilli());
+        fprintf(stderr, "trained in %.1f ms\n", tm.getTimeMilli());
+        for (int g = 0; g < detector->numSearchGroups(); ++g)
+        {
+            const cv::forestmod::TemplateForest::Statistics st
+                = detector->getForest(g)->statistics();
+            fprintf(stderr, "search group %d (%d classes): forest %d trees, %d nodes, %d leaves, "
+                            "depth %d, %.1f templates per leaf\n", g,
+                    (int)detector->getSearchGroupClasses(g).size(), st.trees, st.nodes,
+                    st.leaves, st.max_depth, st.mean_leaf_size);
+        }
         detector->save(out, parser.has("force"));
         std::cout << "wrote " << out << ": " << detector->numTemplates() << " templates of "
                   << detector->numClasses() << " classes" << std::endl;

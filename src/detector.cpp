@@ -32,9 +32,11 @@ static const int MODEL_FORMAT_VERSION = 1;
 DetectorParams::DetectorParams()
     : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
       grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(10),
-      min_window_labels(0.5f), depth_range_margin(0), dominant_window(3)
+      min_window_labels(0.5f), depth_range_margin(0), dominant_window(3),
+      group_size_ratio(1.3f), max_group_classes(0), auto_depth_leaf_samples(2.f),
+      grey_hue_label(false)
 {
-    forest.max_depth = 0; // chosen at train(): 8 for one class, 9 for several (paper)
+    forest.max_depth = 0; // chosen at train() per search group (auto_depth_leaf_samples)
     // rejectors over dims that half the node's templates cover, and more of them: measured on
     // rendered LM-O scenes (doc/detector.md), the forest's defaults reject less background
     forest.rejector_coverage = 0.5f;
@@ -71,6 +73,14 @@ void DetectorParams::read(const FileNode& fn)
         depth_range_margin = (int)fn["depth_range_margin"];
     if (!fn["dominant_window"].empty())
         dominant_window = (int)fn["dominant_window"];
+    if (!fn["group_size_ratio"].empty())
+        group_size_ratio = (float)fn["group_size_ratio"];
+    if (!fn["max_group_classes"].empty())
+        max_group_classes = (int)fn["max_group_classes"];
+    if (!fn["auto_depth_leaf_samples"].empty())
+        auto_depth_leaf_samples = (float)fn["auto_depth_leaf_samples"];
+    if (!fn["grey_hue_label"].empty())
+        grey_hue_label = (int)fn["grey_hue_label"] != 0;
 }
 
 void DetectorParams::write(FileStorage& fs) const
@@ -91,6 +101,10 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "min_window_labels" << min_window_labels;
     fs << "depth_range_margin" << depth_range_margin;
     fs << "dominant_window" << dominant_window;
+    fs << "group_size_ratio" << group_size_ratio;
+    fs << "max_group_classes" << max_group_classes;
+    fs << "auto_depth_leaf_samples" << auto_depth_leaf_samples;
+    fs << "grey_hue_label" << (int)grey_hue_label;
 }
 
 static void checkParams(const DetectorParams& p)
@@ -110,6 +124,12 @@ static void checkParams(const DetectorParams& p)
     CV_CheckGE(p.depth_range_margin, 0, "DetectorParams: depth_range_margin must be >= 0 (0: off)");
     CV_CheckGE(p.dominant_window, 1, "DetectorParams: dominant_window must be in [1, 9]");
     CV_CheckLE(p.dominant_window, 9, "DetectorParams: dominant_window must be in [1, 9]");
+    CV_CheckGE(p.group_size_ratio, 0.f, "DetectorParams: group_size_ratio must be >= 0 (0: no "
+                                        "size limit)");
+    CV_CheckGE(p.max_group_classes, 0, "DetectorParams: max_group_classes must be >= 0 (0: no "
+                                       "limit)");
+    CV_CheckGE(p.auto_depth_leaf_samples, 0.f, "DetectorParams: auto_depth_leaf_samples must be "
+                                               ">= 0 (0: the paper's depth)");
 }
 
 // stride (coarsest level pixels) of forest queries: location_step, or T / 2 when 0
@@ -160,6 +180,41 @@ static void dominantLabels(const Mat& quantized, const Mat& mask, int k, Mat& ds
                 }
         }
     }
+}
+
+// The forest's view of a ColorHue plane with grey_hue_label: the 8 hue bins merged into 7 (bits
+// 0..6) and "no reliable hue" (0) as a label of its own (bit 7, GREY_BIT), for the templates (on
+// their mask) and the scene alike: a white or grey surface is then evidence (doc/detector.md,
+// "Colourless objects"). The flat-window count ignores GREY_BIT.
+static const uchar GREY_BIT = 0x80;
+
+static void greyHueLabels(const Mat& quantized, const Mat& mask, Mat& dst)
+{
+    uchar lut[256];
+    for (int v = 0; v < 256; ++v)
+    {
+        int b = -1;
+        for (int k = 0; k < 8; ++k)
+            if (v & (1 << k))
+            {
+                b = k;
+                break;
+            }
+        lut[v] = b < 0 ? GREY_BIT : (uchar)(1 << (b * 7 / 8));
+    }
+    LUT(quantized, Mat(1, 256, CV_8U, lut), dst);
+    if (!mask.empty())
+        dst.setTo(0, mask == 0);
+}
+
+static std::vector<int> hueModalities(const std::vector<Ptr<Modality> >& modalities,
+                                      const DetectorParams& p)
+{
+    std::vector<int> hue(modalities.size(), 0);
+    if (p.grey_hue_label)
+        for (size_t i = 0; i < modalities.size(); ++i)
+            hue[i] = modalities[i]->name() == "ColorHue";
+    return hue;
 }
 
 static Mat downsampleNearest(const Mat& img, int levels)
@@ -215,12 +270,33 @@ void Detector::setParams(const DetectorParams& params)
     AutoLock lock(impl_->mutex);
     impl_->params = params;
     impl_->trained = false;
-    impl_->forest.release();
+    impl_->groups.clear();
 }
 
-Ptr<TemplateForest> Detector::getForest() const
+Ptr<TemplateForest> Detector::getForest(int group) const
 {
-    return impl_->forest;
+    if (group < 0 || group >= (int)impl_->groups.size())
+    {
+        if (group == 0)
+            return Ptr<TemplateForest>(); // untrained
+        CV_Error_(Error::StsOutOfRange, ("forestmod::Detector::getForest: no search group %d "
+                                         "(%d groups)", group, (int)impl_->groups.size()));
+    }
+    return impl_->groups[group].forest;
+}
+
+int Detector::numSearchGroups() const
+{
+    return (int)impl_->groups.size();
+}
+
+std::vector<String> Detector::getSearchGroupClasses(int group) const
+{
+    if (group < 0 || group >= (int)impl_->groups.size())
+        CV_Error_(Error::StsOutOfRange, ("forestmod::Detector::getSearchGroupClasses: no search "
+                                         "group %d (%d groups)", group,
+                                         (int)impl_->groups.size()));
+    return impl_->groups[group].classes;
 }
 
 bool Detector::isTrained() const
@@ -561,58 +637,118 @@ static void templateDescriptor(const TemplatePyramid& tp, const DensePatch& patc
     }
 }
 
-// The descriptor geometry (paper: the sample locations r of the templates): a grid_size x
-// grid_size grid over the largest template at the coarsest level, for every modality; and the
-// forest row of every template. Returns the grid step (pixels).
-static double buildGeometry(Detector::Impl& impl,
-                            const std::map<String, std::vector<TemplatePyramid> >& class_templates,
-                            int M, int L)
+// The search groups (DetectorParams::group_size_ratio, max_group_classes): classes sorted by
+// the size of their largest template at the coarsest level, grouped greedily. Also the global
+// forest row -> template table.
+static void buildGroups(Detector::Impl& impl,
+                        const std::map<String, std::vector<TemplatePyramid> >& class_templates,
+                        int M, int L, const std::vector<int>& grey_hue)
 {
-    int half = 1;
     impl.rows.clear();
+    // (colourless, size), class: with grey_hue_label, classes without hue (most of their
+    // templates have no hue feature) form groups of their own, whose forests read the grey label
+    std::vector<std::pair<std::pair<int, int>, String> > by_size;
+    std::map<String, int> first_row;
     for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
          it != class_templates.end(); ++it)
+    {
+        if (it->second.empty())
+            continue;
+        int extent = 1;
+        first_row[it->first] = (int)impl.rows.size();
         for (size_t i = 0; i < it->second.size(); ++i)
         {
             const Template& top = it->second[i][L * M];
-            half = std::max(half, (std::max(top.width, top.height) + 1) / 2);
+            extent = std::max(extent, std::max(top.width, top.height) + 1);
             TemplateRef ref;
             ref.class_id = it->first;
             ref.template_id = static_cast<int>(i);
             impl.rows.push_back(ref);
         }
+        int colourless = 0;
+        bool has_hue = false;
+        for (int m = 0; m < M && m < (int)grey_hue.size(); ++m)
+            if (grey_hue[m])
+            {
+                has_hue = true;
+                int without = 0;
+                for (size_t i = 0; i < it->second.size(); ++i)
+                    without += it->second[i][L * M + m].features.empty();
+                colourless = 2 * without > (int)it->second.size();
+            }
+        if (!has_hue)
+            colourless = 0;
+        by_size.push_back(std::make_pair(std::make_pair(colourless, extent), it->first));
+    }
+    std::sort(by_size.begin(), by_size.end());
+    const float ratio = impl.params.group_size_ratio;
+    const int max_classes = impl.params.max_group_classes;
+    impl.groups.clear();
+    int group_extent = 0;
+    for (size_t k = 0; k < by_size.size(); ++k)
+    {
+        const int extent = by_size[k].first.second;
+        const bool grey = by_size[k].first.first != 0;
+        const bool fits = !impl.groups.empty() && impl.groups.back().grey == grey
+            && (ratio <= 0.f || extent <= ratio * group_extent)
+            && (max_classes <= 0 || (int)impl.groups.back().classes.size() < max_classes);
+        if (!fits)
+        {
+            impl.groups.push_back(SearchGroup());
+            impl.groups.back().grey = grey;
+            group_extent = extent;
+        }
+        SearchGroup& g = impl.groups.back();
+        g.classes.push_back(by_size[k].second);
+        const int n = (int)class_templates.find(by_size[k].second)->second.size();
+        for (int i = 0; i < n; ++i)
+            g.rows.push_back(first_row[by_size[k].second] + i);
+    }
+}
+
+// The descriptor geometry of a group (paper: the sample locations r of the templates): a
+// grid_size x grid_size grid over the group's largest template at the coarsest level, for every
+// modality. Returns the grid step (pixels).
+static double buildGeometry(const Detector::Impl& impl, SearchGroup& group,
+                            const std::map<String, std::vector<TemplatePyramid> >& class_templates,
+                            int M, int L)
+{
+    int half = 1;
+    for (size_t r = 0; r < group.rows.size(); ++r)
+    {
+        const TemplateRef& ref = impl.rows[group.rows[r]];
+        const Template& top = class_templates.find(ref.class_id)->second[ref.template_id][L * M];
+        half = std::max(half, (std::max(top.width, top.height) + 1) / 2);
+    }
     const int G = impl.params.grid_size;
     const double step = 2.0 * half / G;
-    impl.grid.clear();
+    group.grid.clear();
     for (int gy = 0; gy < G; ++gy)
         for (int gx = 0; gx < G; ++gx)
-            impl.grid.push_back(Point(cvFloor(-half + (gx + 0.5) * step),
-                                      cvFloor(-half + (gy + 0.5) * step)));
-    const int P = static_cast<int>(impl.grid.size());
-    impl.plane_of.resize(M * P);
-    impl.dim_offset.resize(M * P);
+            group.grid.push_back(Point(cvFloor(-half + (gx + 0.5) * step),
+                                       cvFloor(-half + (gy + 0.5) * step)));
+    const int P = static_cast<int>(group.grid.size());
+    group.plane_of.resize(M * P);
+    group.dim_offset.resize(M * P);
     for (int m = 0; m < M; ++m)
         for (int g = 0; g < P; ++g)
         {
-            impl.plane_of[m * P + g] = m;
-            impl.dim_offset[m * P + g] = impl.grid[g];
+            group.plane_of[m * P + g] = m;
+            group.dim_offset[m * P + g] = group.grid[g];
         }
     return step;
 }
 
-// Everything training derives from the templates besides the forest itself: the descriptor
-// geometry, every template's descriptors (with shifted samples), the flat-window and depth-range
-// rejection limits. Deterministic; load() runs it too and reads the trained forest.
+// Everything training derives from the templates besides the forests themselves: the search
+// groups, their descriptor geometry, every template's descriptors (with shifted samples) per
+// group, the flat-window and depth-range rejection limits. Deterministic; load() runs it too and
+// reads the trained forests. desc / fg / ids: one matrix per group; ids are group rows.
 static void prepareTraining(Detector::Impl& impl,
                             std::map<String, std::vector<TemplatePyramid> >& class_templates,
-                            int M, int L, int T, Mat& desc, Mat& fg, Mat& ids)
+                            int M, int L, int T, const std::vector<int>& grey_hue,
+                            std::vector<Mat>& descs, std::vector<Mat>& fgs, std::vector<Mat>& idss)
 {
-    int N = 0;
-    for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
-         it != class_templates.end(); ++it)
-        N += (int)it->second.size();
-    const double step = buildGeometry(impl, class_templates, M, L);
-    const int P = static_cast<int>(impl.grid.size());
+    buildGroups(impl, class_templates, M, L, grey_hue);
 
     // each template also as seen from locations up to `a` pixels off its anchor (the scene is
     // queried every location_step pixels): doc/forest.md, "Misaligned windows"
@@ -626,36 +762,69 @@ static void prepareTraining(Detector::Impl& impl,
         for (int dx = -a; dx <= a; dx += sstride)
             shifts.push_back(Point(dx, dy));
     const int R = static_cast<int>(shifts.size());
-    desc.create(N * R, M * P, CV_8U);
-    fg.create(N * R, M * P, CV_8U);
-    ids.create(N * R, 1, CV_32S);
-    for (int r = 0; r < N; ++r)
+    const int NG = (int)impl.groups.size();
+    descs.assign(NG, Mat());
+    fgs.assign(NG, Mat());
+    idss.assign(NG, Mat());
+    for (int gi = 0; gi < NG; ++gi)
     {
-        const TemplateRef& ref = impl.rows[r];
-        const TemplatePyramid& tp = class_templates[ref.class_id][ref.template_id];
-        const std::vector<DensePatch>& patches = impl.patches[ref.class_id];
-        DensePatch patch;
-        if (ref.template_id < (int)patches.size() && !patches[ref.template_id].mask.empty())
+        SearchGroup& group = impl.groups[gi];
+        const double step = buildGeometry(impl, group, class_templates, M, L);
+        const int P = static_cast<int>(group.grid.size());
+        const int N = (int)group.rows.size();
+        Mat& desc = descs[gi];
+        Mat& fg = fgs[gi];
+        Mat& ids = idss[gi];
+        desc.create(N * R, M * P, CV_8U);
+        fg.create(N * R, M * P, CV_8U);
+        ids.create(N * R, 1, CV_32S);
+        for (int r = 0; r < N; ++r)
         {
-            // the descriptor reads the dominant labels, as the scene's windows (match())
-            const DensePatch& raw = patches[ref.template_id];
-            patch.mask = raw.mask;
-            patch.quantized.resize(raw.quantized.size());
-            for (size_t m = 0; m < raw.quantized.size(); ++m)
-                dominantLabels(raw.quantized[m], raw.mask, impl.params.dominant_window,
-                               patch.quantized[m]);
+            const TemplateRef& ref = impl.rows[group.rows[r]];
+            const TemplatePyramid& tp = class_templates[ref.class_id][ref.template_id];
+            const std::vector<DensePatch>& patches = impl.patches[ref.class_id];
+            DensePatch patch;
+            if (ref.template_id < (int)patches.size() && !patches[ref.template_id].mask.empty())
+            {
+                // the descriptor reads the dominant labels, as the scene's windows (match())
+                const DensePatch& raw = patches[ref.template_id];
+                patch.mask = raw.mask;
+                patch.quantized.resize(raw.quantized.size());
+                for (size_t m = 0; m < raw.quantized.size(); ++m)
+                {
+                    Mat q = raw.quantized[m];
+                    if (group.grey && m < grey_hue.size() && grey_hue[m])
+                        greyHueLabels(raw.quantized[m], raw.mask, q);
+                    dominantLabels(q, raw.mask, impl.params.dominant_window, patch.quantized[m]);
+                }
+            }
+            for (int k = 0; k < R; ++k)
+            {
+                templateDescriptor(tp, patch, M, L, group.grid, std::max(1, cvRound(step)),
+                                   shifts[k], desc.ptr(r * R + k), fg.ptr(r * R + k));
+                ids.at<int>(r * R + k) = r;
+            }
         }
-        for (int k = 0; k < R; ++k)
+        // flat-window rejection: the fewest labelled values any training descriptor has (the
+        // grey hue label does not count: a uniform grey window stays flat)
+        group.flat_mask.assign(M * P, 0xFF);
+        for (int m = 0; m < M; ++m)
+            if (group.grey && m < (int)grey_hue.size() && grey_hue[m])
+                for (int g = 0; g < P; ++g)
+                {
+                    group.flat_mask[m * P + g] = (uchar)~GREY_BIT;
+                    group.plane_of[m * P + g] = M + m; // the scene's grey-labelled hue plane
+                }
+        group.min_labels = M * P;
+        for (int i = 0; i < desc.rows; ++i)
         {
-            templateDescriptor(tp, patch, M, L, impl.grid, std::max(1, cvRound(step)), shifts[k],
-                               desc.ptr(r * R + k), fg.ptr(r * R + k));
-            ids.at<int>(r * R + k) = r;
+            const uchar* d = desc.ptr(i);
+            int labels = 0;
+            for (int j = 0; j < M * P; ++j)
+                labels += (d[j] & group.flat_mask[j]) != 0;
+            group.min_labels = std::min(group.min_labels, labels);
         }
     }
-    // flat-window rejection: the fewest labelled values any training descriptor has
-    impl.min_labels = M * P;
-    for (int i = 0; i < desc.rows; ++i)
-        impl.min_labels = std::min(impl.min_labels, countNonZero(desc.row(i)));
     // out-of-depth-range rejection: the templates' depth range, probed at the anchor and around
     // it within a third of the smallest template
     impl.z_min = INT_MAX;
@@ -681,7 +850,6 @@ static void prepareTraining(Detector::Impl& impl,
     for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx)
             impl.depth_probe.push_back(Point(dx * h3, dy * h3));
-
 }
 
 void Detector::train()
@@ -696,20 +864,43 @@ void Detector::train()
         CV_Error(Error::StsError, "forestmod::Detector::train: no templates (addTemplate first)");
     const int L = pyramid_levels - 1;
 
-    Mat desc, fg, ids;
-    prepareTraining(impl, class_templates, M, L, T_at_level[L], desc, fg, ids);
+    std::vector<Mat> descs, fgs, idss;
+    impl.trained = false;
+    prepareTraining(impl, class_templates, M, L, T_at_level[L],
+                    hueModalities(modalities, impl.params), descs, fgs, idss);
 
-    ForestParams fp = impl.params.forest;
-    if (fp.max_depth <= 0)
+    for (size_t gi = 0; gi < impl.groups.size(); ++gi)
     {
-        // paper: 8 for one object, 9 for several; deeper when there are many more templates
-        // than the paper's ~1000 per object (doc/forest.md: depth ~ log2(N / 8))
-        const int paper = class_templates.size() > 1 ? 9 : 8;
-        fp.max_depth = std::max(paper, (int)std::ceil(std::log2(std::max(1.0, N / 8.0))));
+        SearchGroup& group = impl.groups[gi];
+        ForestParams fp = impl.params.forest;
+        if (fp.max_depth <= 0)
+        {
+            // paper: 8 for one object, 9 for several. Here: 8, deeper when the group has more
+            // samples (templates x shifts) than that gives leaves for, plus one level per
+            // doubling of the detector's classes: a location leaves only when every group
+            // rejects it, so each group must accept less background the more classes there are
+            // (the paper's +1 for several objects, generalised; doc/detector.md)
+            const int C = (int)class_templates.size();
+            const int paper = C > 1 ? 9 : 8;
+            int depth = paper;
+            // never deeper than log2(samples) + 1: the splits have nothing left to separate
+            // and only overfit (LM-O can alone, 432 samples: depth 11 lost 3 of 10 rendered
+            // scenes that depth 8 finds)
+            if (impl.params.auto_depth_leaf_samples > 0.f)
+            {
+                const double samples = std::max(1, descs[gi].rows);
+                const int by_samples = (int)std::ceil(std::log2(std::max(
+                    1.0, samples / (double)impl.params.auto_depth_leaf_samples)));
+                depth = std::max(8, by_samples) + (int)std::ceil(std::log2((double)C));
+                depth = std::min(depth, (int)std::ceil(std::log2(samples)) + 1);
+                depth = std::max(depth, 8); // the paper's depth for one object is the floor
+            }
+            fp.max_depth = std::min(depth, 20);
+        }
+        Ptr<TemplateForest> forest = TemplateForest::create(fp);
+        forest->train(descs[gi], fgs[gi], idss[gi]);
+        group.forest = forest;
     }
-    Ptr<TemplateForest> forest = TemplateForest::create(fp);
-    forest->train(desc, fg, ids);
-    impl.forest = forest;
     impl.trained = true;
 }
 
@@ -937,21 +1128,35 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
     }
     else
     {
-        const TemplateForest& forest = *impl.forest;
         std::vector<uchar> class_allowed(impl.rows.size(), 1);
         if (!class_ids.empty())
             for (size_t r = 0; r < impl.rows.size(); ++r)
                 class_allowed[r] = std::find(classes.begin(), classes.end(),
                                              impl.rows[r].class_id) != classes.end();
+        // the search groups that hold an allowed class (each: its window, forest, flat limit)
+        std::vector<const SearchGroup*> groups;
+        for (size_t gi = 0; gi < impl.groups.size(); ++gi)
+        {
+            bool any = false;
+            for (size_t k = 0; k < impl.groups[gi].rows.size() && !any; ++k)
+                any = class_allowed[impl.groups[gi].rows[k]] != 0;
+            if (any)
+                groups.push_back(&impl.groups[gi]);
+        }
+        const int NG = (int)groups.size();
         const int S = std::min(locationStep(params, T), T);
         const int W = (top.size.width + S - 1) / S, H = (top.size.height + S - 1) / S;
-        const int D = static_cast<int>(impl.plane_of.size());
-        std::vector<const uchar*> planes(M);
+        // planes M + m: the grey-labelled view of hue plane m, for the colourless groups
+        std::vector<const uchar*> planes(2 * M, (const uchar*)0);
         // the forest reads the plain quantized images (one label per point, as the templates it
         // was trained on; spreading would add labels and mislead the splits: doc/forest.md) up to
         // half a template around a location: a zero border of that size keeps every read inside
         // the buffer without a bounds check per value
-        std::vector<Mat> bordered(M);
+        std::vector<Mat> bordered(2 * M);
+        const std::vector<int> grey_hue = hueModalities(modalities, params);
+        bool any_grey = false;
+        for (int gi = 0; gi < NG; ++gi)
+            any_grey = any_grey || groups[gi]->grey;
         const int B = (max_extent >> L) + 2 * T + 2;
         for (int m = 0; m < M; ++m)
         {
@@ -959,31 +1164,46 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
             dominantLabels(top.quantized[m], Mat(), params.dominant_window, dominant);
             copyMakeBorder(dominant, bordered[m], B, B, B, B, BORDER_CONSTANT, Scalar(0));
             planes[m] = bordered[m].ptr();
+            if (any_grey && grey_hue[m])
+            {
+                Mat q;
+                greyHueLabels(top.quantized[m], Mat(), q);
+                dominantLabels(q, Mat(), params.dominant_window, dominant);
+                copyMakeBorder(dominant, bordered[M + m], B, B, B, B, BORDER_CONSTANT, Scalar(0));
+                planes[M + m] = bordered[M + m].ptr();
+            }
         }
         const size_t step = bordered[0].step;
-        std::vector<int> delta(D);
-        for (int j = 0; j < D; ++j)
-            delta[j] = impl.dim_offset[j].y * (int)step + impl.dim_offset[j].x;
-        std::vector<int> plane_of(impl.plane_of);
+        std::vector<std::vector<int> > deltas(NG);
+        std::vector<int> min_labels(NG, 0);
+        for (int gi = 0; gi < NG; ++gi)
+        {
+            const int D = static_cast<int>(groups[gi]->plane_of.size());
+            deltas[gi].resize(D);
+            for (int j = 0; j < D; ++j)
+                deltas[gi][j] = groups[gi]->dim_offset[j].y * (int)step
+                    + groups[gi]->dim_offset[j].x;
+            if (params.min_window_labels > 0)
+                min_labels[gi] = std::max(1, cvCeil(params.min_window_labels
+                                                    * groups[gi]->min_labels));
+        }
 
         Mat rejection_map;
         if (stats)
             rejection_map.create(H, W, CV_16SC1);
         // per location: forest -> candidates -> breadth-first validation -> best survivor
         std::vector<std::vector<Match> > per_row(H);
-        std::vector<ForestQueryStats> row_stats(H);
+        std::vector<std::vector<int64> > row_at_depth(H);
         std::vector<double> row_tree(H, 0), row_valid(H, 0);
         std::vector<int64> row_validated(H, 0), row_cands(H, 0), row_flat(H, 0),
-            row_deprange(H, 0);
-        const int min_labels = params.min_window_labels > 0
-            ? std::max(1, cvCeil(params.min_window_labels * impl.min_labels)) : 0;
+            row_deprange(H, 0), row_forest_rej(H, 0), row_locations(H, 0);
         const bool check_depth = dm >= 0 && params.depth_range_margin > 0
             && impl.z_max > 0;
         const Mat scene_depth = dm >= 0 ? sources[dm] : Mat();
         const int z_lo = impl.z_min - params.depth_range_margin;
         const int z_hi = impl.z_max + params.depth_range_margin;
         parallel_for_(Range(0, H), [&](const Range& range) {
-            std::vector<int> cands;
+            std::vector<int> cands, group_cands;
             std::vector<detail::ValidationCandidate> vc;
             std::vector<int> survivors;
             for (int r = range.start; r < range.end; ++r)
@@ -991,12 +1211,8 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                 for (int c = 0; c < W; ++c)
                 {
                     const int64 q0 = getTickCount();
-                    LocationView view;
-                    view.planes = &planes[0];
-                    view.plane_of = &plane_of[0];
-                    view.delta = &delta[0];
-                    view.offset = (ptrdiff_t)(r * S + B) * (ptrdiff_t)step + (c * S + B);
-                    // before the forest: out of the templates' depth range, or a flat window
+                    ++row_locations[r];
+                    // before the forest: out of the templates' depth range
                     if (check_depth)
                     {
                         int known = 0, inside = 0;
@@ -1021,28 +1237,65 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                             continue;
                         }
                     }
-                    if (min_labels > 0)
+                    // every search group: a flat window, or its forest (rejectors, splits, all
+                    // trees); the location leaves when every group rejects it, the candidates
+                    // are the union of the groups' leaves (as global rows)
+                    cands.clear();
+                    int flat = 0, deepest = -1;
+                    bool accepted = false;
+                    for (int gi = 0; gi < NG; ++gi)
                     {
-                        int labels = 0;
-                        for (int j = 0; j < D; ++j)
-                            labels += view.value(j) != 0;
-                        if (labels < min_labels)
+                        const SearchGroup& grp = *groups[gi];
+                        LocationView view;
+                        view.planes = &planes[0];
+                        view.plane_of = &grp.plane_of[0];
+                        view.delta = &deltas[gi][0];
+                        view.offset = (ptrdiff_t)(r * S + B) * (ptrdiff_t)step + (c * S + B);
+                        if (min_labels[gi] > 0)
                         {
-                            ++row_flat[r];
-                            if (stats)
-                                rejection_map.at<short>(r, c) = -2;
-                            row_tree[r] += (double)(getTickCount() - q0);
+                            const int D = (int)grp.plane_of.size();
+                            int labels = 0;
+                            for (int j = 0; j < D; ++j)
+                                labels += (view.value(j) & grp.flat_mask[j]) != 0;
+                            if (labels < min_labels[gi])
+                            {
+                                ++flat;
+                                continue;
+                            }
+                        }
+                        int depth = -1;
+                        if (!grp.forest->query(view, group_cands, &depth))
+                        {
+                            deepest = std::max(deepest, depth);
                             continue;
                         }
+                        accepted = true;
+                        for (size_t k = 0; k < group_cands.size(); ++k)
+                            cands.push_back(grp.rows[group_cands[k]]);
                     }
-                    int depth = -1;
-                    const bool ok = forest.query(view, cands, &depth, &row_stats[r]);
                     const int64 q1 = getTickCount();
                     row_tree[r] += (double)(q1 - q0);
-                    if (stats)
-                        rejection_map.at<short>(r, c) = (short)(ok ? -1 : depth);
-                    if (!ok || cands.empty())
+                    if (!accepted)
+                    {
+                        if (flat == NG)
+                            ++row_flat[r];
+                        else
+                        {
+                            ++row_forest_rej[r];
+                            if ((int)row_at_depth[r].size() <= deepest)
+                                row_at_depth[r].resize(deepest + 1, 0);
+                            ++row_at_depth[r][deepest];
+                        }
+                        if (stats)
+                            rejection_map.at<short>(r, c) = (short)(flat == NG ? -2 : deepest);
                         continue;
+                    }
+                    if (stats)
+                        rejection_map.at<short>(r, c) = -1;
+                    if (cands.empty())
+                        continue;
+                    if (NG > 1)
+                        std::sort(cands.begin(), cands.end());
                     vc.clear();
                     for (size_t k = 0; k < cands.size(); ++k)
                     {
@@ -1155,16 +1408,15 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
         {
             for (int r = 0; r < H; ++r)
             {
-                const ForestQueryStats& s = row_stats[r];
-                stats->locations += s.locations;
-                stats->rejected += s.rejected;
-                if (stats->rejected_at_depth.size() < s.rejected_at_depth.size())
-                    stats->rejected_at_depth.resize(s.rejected_at_depth.size(), 0);
-                for (size_t d = 0; d < s.rejected_at_depth.size(); ++d)
-                    stats->rejected_at_depth[d] += s.rejected_at_depth[d];
+                const std::vector<int64>& at_depth = row_at_depth[r];
+                stats->locations += row_locations[r];
+                stats->rejected += row_forest_rej[r];
+                if (stats->rejected_at_depth.size() < at_depth.size())
+                    stats->rejected_at_depth.resize(at_depth.size(), 0);
+                for (size_t d = 0; d < at_depth.size(); ++d)
+                    stats->rejected_at_depth[d] += at_depth[d];
                 stats->validated += row_validated[r];
                 stats->candidates += row_cands[r];
-                stats->locations += row_flat[r] + row_deprange[r];
                 stats->rejected += row_flat[r] + row_deprange[r];
                 stats->rejected_flat += row_flat[r];
                 stats->rejected_depth_range += row_deprange[r];
@@ -1242,7 +1494,18 @@ void Detector::read(const FileNode& fn)
                                        "are missing or disagree");
     DetectorParams p;
     if (!fn["forestmod_params"].empty())
+    {
         p.read(fn["forestmod_params"]);
+        // written before search groups existed: one window and one forest for all classes
+        if (fn["forestmod_params"]["group_size_ratio"].empty())
+        {
+            p.group_size_ratio = 0.f;
+            p.max_group_classes = 0;
+        }
+        // written before the grey hue label existed: the forests read the plain hue
+        if (fn["forestmod_params"]["grey_hue_label"].empty())
+            p.grey_hue_label = false;
+    }
     checkParams(p);
     AutoLock lock(impl_->mutex);
     modalities = new_modalities;
@@ -1254,7 +1517,7 @@ void Detector::read(const FileNode& fn)
     impl_->depth.clear();
     impl_->params = p;
     impl_->trained = false;
-    impl_->forest.release();
+    impl_->groups.clear();
 }
 
 void Detector::write(FileStorage& fs) const
@@ -1537,11 +1800,22 @@ void Detector::save(const String& filename, bool overwrite) const
         fs << "}";
     }
     fs << "]";
-    if (impl_->trained && impl_->forest)
+    if (impl_->trained && impl_->groups.size() == 1)
     {
-        fs << "forest" << "{";
-        impl_->forest->write(fs);
+        fs << "forest" << "{"; // one search group: the layout of files without groups
+        impl_->groups[0].forest->write(fs);
         fs << "}";
+    }
+    else if (impl_->trained && !impl_->groups.empty())
+    {
+        fs << "forests" << "[";
+        for (size_t g = 0; g < impl_->groups.size(); ++g)
+        {
+            fs << "{";
+            impl_->groups[g].forest->write(fs);
+            fs << "}";
+        }
+        fs << "]";
     }
 }
 
@@ -1575,23 +1849,50 @@ void Detector::load(const String& filename)
                                          filename.c_str()));
     for (FileNodeIterator it = classes.begin(); it != classes.end(); ++it)
         readClass(*it);
-    FileNode forest_fn = fs["forest"];
-    if (!forest_fn.empty())
+    // the trained forests (one per search group) are read as they are (training a large model
+    // takes minutes); the groups, their descriptor geometry and the rejection limits are
+    // functions of the templates and parameters
+    std::vector<FileNode> forest_fns;
+    if (!fs["forest"].empty())
+        forest_fns.push_back(fs["forest"]);
+    FileNode forests_fn = fs["forests"];
+    if (!forests_fn.empty())
     {
-        // the trained forest is read as it is (training a large model takes minutes); the
-        // descriptor geometry and rejection limits are functions of the templates and parameters
-        Ptr<TemplateForest> f = TemplateForest::create(impl_->params.forest);
-        f->read(forest_fn);
+        if (!forests_fn.isSeq())
+            CV_Error_(Error::StsParseError, ("forestmod::Detector::load: 'forests' in '%s' is "
+                                             "not a sequence (corrupt file?)", filename.c_str()));
+        for (FileNodeIterator it = forests_fn.begin(); it != forests_fn.end(); ++it)
+            forest_fns.push_back(*it);
+    }
+    if (!forest_fns.empty())
+    {
+        std::vector<Ptr<TemplateForest> > forests;
+        for (size_t g = 0; g < forest_fns.size(); ++g)
+        {
+            Ptr<TemplateForest> f = TemplateForest::create(impl_->params.forest);
+            f->read(forest_fns[g]);
+            forests.push_back(f);
+        }
         AutoLock lock(impl_->mutex);
-        Mat desc, fg, ids;
+        std::vector<Mat> desc, fg, ids;
         prepareTraining(*impl_, class_templates, (int)modalities.size(), pyramid_levels - 1,
-                        T_at_level.back(), desc, fg, ids);
-        if (f->empty() || f->numTemplates() != numTemplates()
-            || f->dims() != (int)impl_->plane_of.size())
-            CV_Error_(Error::StsParseError, ("forestmod::Detector::load: the forest in '%s' does "
-                                             "not fit its templates (corrupt file?)",
-                                             filename.c_str()));
-        impl_->forest = f;
+                        T_at_level.back(), hueModalities(modalities, impl_->params), desc, fg,
+                        ids);
+        if (forests.size() != impl_->groups.size())
+            CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' holds %d forests, "
+                                             "its templates and parameters make %d search groups "
+                                             "(corrupt file?)", filename.c_str(),
+                                             (int)forests.size(), (int)impl_->groups.size()));
+        for (size_t g = 0; g < forests.size(); ++g)
+        {
+            const Ptr<TemplateForest>& f = forests[g];
+            if (f->empty() || f->numTemplates() != (int)impl_->groups[g].rows.size()
+                || f->dims() != (int)impl_->groups[g].plane_of.size())
+                CV_Error_(Error::StsParseError, ("forestmod::Detector::load: forest %d in '%s' "
+                                                 "does not fit its templates (corrupt file?)",
+                                                 (int)g, filename.c_str()));
+            impl_->groups[g].forest = f;
+        }
         impl_->trained = true;
     }
 }

@@ -27,6 +27,22 @@ struct TemplateRef
     int template_id;
 };
 
+/** One search group: classes of similar size sharing a descriptor window and a forest. */
+struct SearchGroup
+{
+    std::vector<String> classes;          //!< smallest first
+    std::vector<int> rows;                //!< forest row (template id of the forest) -> Impl::rows
+    std::vector<Point> grid;              //!< descriptor grid offsets from the anchor (coarsest level)
+    std::vector<int> plane_of;            //!< per descriptor dimension
+    std::vector<Point> dim_offset;        //!< per descriptor dimension
+    int min_labels;                       //!< fewest labelled values of a training descriptor
+    std::vector<uchar> flat_mask;         //!< per dimension: the bits the flat-window test counts
+    Ptr<TemplateForest> forest;
+    bool grey;                            //!< colourless classes: hue read with the grey label
+
+    SearchGroup() : min_labels(0), grey(false) {}
+};
+
 struct Detector::Impl
 {
     DetectorParams params;
@@ -44,17 +60,13 @@ struct Detector::Impl
 
     // trained state
     bool trained;
-    Ptr<TemplateForest> forest;
-    std::vector<TemplateRef> rows;        //!< forest row -> template
-    std::vector<Point> grid;              //!< descriptor grid offsets from the anchor (coarsest level)
-    std::vector<int> plane_of;            //!< per descriptor dimension
-    std::vector<Point> dim_offset;        //!< per descriptor dimension
-    int min_labels;                       //!< fewest labelled values of a training descriptor
+    std::vector<TemplateRef> rows;        //!< all templates, class by class
+    std::vector<SearchGroup> groups;      //!< windows and forests (DetectorParams::group_size_ratio)
     int z_min, z_max;                     //!< depth range (mm) of the templates' depth samples
     std::vector<Point> depth_probe;       //!< offsets (coarsest level) of the depth-range probes
     Mutex mutex;
 
-    Impl() : trained(false), min_labels(0), z_min(0), z_max(0) {}
+    Impl() : trained(false), z_min(0), z_max(0) {}
 };
 
 } // namespace forestmod
