@@ -346,6 +346,9 @@ static cv::Ptr<fm::Detector> objectTemplates(ObjectInfo& obj, const TemplateSetu
         {
             progress.show(obj.name + ": loading cached templates");
             det->load(obj.cache_file);
+            // the cache holds templates; the parameters are this build's defaults, not those
+            // saved with the cached model
+            det->setParams(fm::DetectorParams());
             det->setMesh(obj.class_id, obj.mesh);
             obj.templates = det->numTemplates(obj.class_id);
             return det;
