@@ -119,61 +119,131 @@ int similarityAll(const LevelMaps& level, const TemplatePyramid& tp, int level_i
     return sum;
 }
 
-double depthAgreement(const Mat& d, const std::vector<Point3i>& samples, Point tl, int tolerance,
-                      int* valid)
+bool depthOffset(const Mat& d, const Point3i* samples, int n, Point origin, int& offset)
 {
-    CV_Assert(d.type() == CV_16UC1);
-    int diff[512];
-    int n = 0;
-    for (size_t i = 0; i < samples.size() && n < 512; ++i)
+    CV_DbgAssert(d.type() == CV_16UC1 && n <= 256);
+    int diff[256];
+    int k = 0;
+    n = std::min(n, 256);
+    for (int i = 0; i < n; ++i)
     {
-        const int x = tl.x + samples[i].x, y = tl.y + samples[i].y;
+        const int x = origin.x + samples[i].x, y = origin.y + samples[i].y;
         if ((unsigned)x >= (unsigned)d.cols || (unsigned)y >= (unsigned)d.rows)
             continue;
         const int z = d.ptr<ushort>(y)[x];
         if (z > 0)
-            diff[n++] = z - samples[i].z;
+            diff[k++] = z - samples[i].z;
     }
-    if (valid)
-        *valid = n;
-    if (n == 0 || 2 * n < (int)samples.size())
-        return 0.0;
-    int sorted[512];
-    std::copy(diff, diff + n, sorted);
-    std::nth_element(sorted, sorted + n / 2, sorted + n);
-    const int ref = sorted[n / 2];
-    int agree = 0;
-    for (int i = 0; i < n; ++i)
-        agree += std::abs(diff[i] - ref) <= tolerance;
-    return double(agree) / samples.size();
+    if (k == 0 || 4 * k < n)
+        return false;
+    std::nth_element(diff, diff + k / 2, diff + k);
+    offset = diff[k / 2];
+    return true;
 }
 
-static int scoreAll(const LevelMaps& level, int level_index, ValidationCandidate& c)
+void DepthContext::set(const Mat& scene_depth, int radius)
 {
-    return similarityAll(level, *c.tp, level_index, c.tl, &c.total);
+    CV_Assert(scene_depth.type() == CV_16UC1 && radius >= 0);
+    depth = scene_depth;
+    const Mat k = getStructuringElement(MORPH_RECT, Size(2 * radius + 1, 2 * radius + 1));
+    dilate(scene_depth, zmax, k, Point(-1, -1), 1, BORDER_CONSTANT, Scalar(0));
+    Mat holes_far = scene_depth.clone();
+    holes_far.setTo(Scalar(65535), scene_depth == 0);
+    erode(holes_far, zmin, k, Point(-1, -1), 1, BORDER_CONSTANT, Scalar(65535));
 }
 
-void validateAll(const LevelMaps& level, int level_index, std::vector<ValidationCandidate>& cands)
+int depthSimilarityRange(const DepthContext& dc, const Point3i* samples, Point origin, int offset,
+                         int begin, int end)
+{
+    const Mat& d = dc.depth;
+    int sum = 0;
+    for (int i = begin; i < end; ++i)
+    {
+        const int x = origin.x + samples[i].x, y = origin.y + samples[i].y;
+        if ((unsigned)x >= (unsigned)d.cols || (unsigned)y >= (unsigned)d.rows)
+            continue;
+        if (d.ptr<ushort>(y)[x] == 0)
+            continue; // no depth at the sample itself: like a feature without a value
+        const int z = samples[i].z + offset;
+        const int lo = dc.zmin.ptr<ushort>(y)[x], hi = dc.zmax.ptr<ushort>(y)[x];
+        sum += depthResponse(z < lo ? lo - z : z > hi ? z - hi : 0, dc.tolerance);
+    }
+    return sum;
+}
+
+int depthSimilarity(const DepthContext& dc, const std::vector<Point3i>& samples, Point origin)
+{
+    const int n = static_cast<int>(samples.size());
+    int offset = 0;
+    if (n == 0 || !depthOffset(dc.depth, &samples[0], n, origin, offset))
+        return 0;
+    return depthSimilarityRange(dc, &samples[0], origin, offset, 0, n);
+}
+
+// level-0 position of a candidate's template top-left
+static inline Point depthOrigin(const DepthContext& dc, Point tl)
+{
+    return Point((tl.x + dc.shift.x) << dc.scale_shift, (tl.y + dc.shift.y) << dc.scale_shift);
+}
+
+static inline int depthCount(const DepthContext* dc, const ValidationCandidate& c)
+{
+    return dc && c.depth ? std::min(256, static_cast<int>(c.depth->size())) : 0;
+}
+
+static int scoreAll(const LevelMaps& level, int level_index, ValidationCandidate& c,
+                    const DepthContext* dc)
+{
+    int nf = 0;
+    int raw = similarityAll(level, *c.tp, level_index, c.tl, &nf);
+    const int ns = depthCount(dc, c);
+    if (ns > 0)
+    {
+        const Point o = depthOrigin(*dc, c.tl);
+        if (!c.zvalid)
+            c.zvalid = depthOffset(dc->depth, &(*c.depth)[0], ns, o, c.zoffset);
+        if (c.zvalid)
+            raw += depthSimilarityRange(*dc, &(*c.depth)[0], o, c.zoffset, 0, ns);
+    }
+    c.total = nf + ns;
+    return raw;
+}
+
+void validateAll(const LevelMaps& level, int level_index, std::vector<ValidationCandidate>& cands,
+                 const DepthContext* depth)
 {
     for (size_t i = 0; i < cands.size(); ++i)
     {
-        cands[i].raw = scoreAll(level, level_index, cands[i]);
+        cands[i].zvalid = false;
+        cands[i].raw = scoreAll(level, level_index, cands[i], depth);
         cands[i].scored = cands[i].total;
     }
 }
 
 void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modalities,
                           std::vector<ValidationCandidate>& cands, int chunk_size, float alpha,
-                          int max_survivors, std::vector<int>& survivors)
+                          int max_survivors, std::vector<int>& survivors,
+                          const DepthContext* depth)
 {
     CV_Assert(chunk_size > 0 && max_survivors > 0);
     survivors.clear();
     std::vector<int> alive(cands.size());
     for (size_t i = 0; i < cands.size(); ++i)
     {
+        ValidationCandidate& c = cands[i];
         alive[i] = static_cast<int>(i);
-        cands[i].raw = 0;
-        cands[i].scored = 0;
+        c.raw = 0;
+        c.scored = 0;
+        c.zvalid = false;
+        c.total = 0;
+        for (int m = 0; m < num_modalities; ++m)
+            c.total += static_cast<int>((*c.tp)[level_index * num_modalities + m].features.size());
+        // the depth offset needs all samples: once per candidate, before its first chunk
+        const int ns = depthCount(depth, c);
+        c.total += ns;
+        if (ns > 0)
+            c.zvalid = depthOffset(depth->depth, &(*c.depth)[0], ns, depthOrigin(*depth, c.tl),
+                                   c.zoffset);
     }
     std::vector<float> scores;
     // chunk k of a candidate covers the fraction [k/K, (k+1)/K) of every modality's features, so
@@ -198,6 +268,16 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
                     c.raw += similarityRange(level, m, templ, c.tl, b, e);
                     c.scored += e - b;
                 }
+                const int ns = depthCount(depth, c);
+                if (ns > 0)
+                {
+                    const int b = static_cast<int>((int64)ns * k / K);
+                    const int e = static_cast<int>((int64)ns * (k + 1) / K);
+                    if (c.zvalid)
+                        c.raw += depthSimilarityRange(*depth, &(*c.depth)[0],
+                                                      depthOrigin(*depth, c.tl), c.zoffset, b, e);
+                    c.scored += e - b;
+                }
 
             }
             scores.push_back(c.scored ? c.raw / (4.f * c.scored) : 0.f);
@@ -218,7 +298,7 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
     {
         ValidationCandidate& c = cands[alive[a]];
         if (c.scored < c.total)
-            c.raw = scoreAll(level, level_index, c);
+            c.raw = scoreAll(level, level_index, c, depth);
         c.scored = c.total;
         survivors.push_back(alive[a]);
     }

@@ -61,17 +61,30 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     output is, as in cv::linemod, every match above the threshold). Default 0.5. */
     CV_PROP_RW float nms_iou;
     /** Depth as a validation modality (paper: "we add depth value as another modality in the
-    validation stage to measure shape similarity"): when the detector has a DepthNormal modality,
-    every template keeps up to this many depth samples spread over its object; after a match is
-    refined, a sample agrees when the scene depth there, minus the template's, lies within
-    depth_tolerance of the median offset, and the samples join the similarity like features
-    (agreeing: full score). 0: off. Default 0, measured (doc/detector.md, "Search"): on the
-    rendered LM-O scenes, 32 samples with a 10 or 20 mm tolerance turned 2 of 90 top matches
-    (near-ties between views) into misses and corrected none. 32 is a reasonable value to try on
-    real RGB-D data. Not used in the exhaustive mode (plain LINEMOD). */
+    validation stage to measure shape similarity"), with a DepthNormal modality. addTemplate keeps
+    up to this many depth samples per template: its points farthest in depth from its median,
+    spread over the object (like LINEMOD's features). In breadth-first validation and at every
+    pyramid refinement level the samples are scored with the features, 0..4 each like LINEMOD's
+    response, so that with as many samples as features per modality depth weighs like one more
+    modality: the scene's offset at the candidate is the median of (scene - template) over the
+    samples, and a sample scores 4 when its template depth + offset lies within depth_tolerance
+    of the scene's depth range around it (+-T / 2 pixels of the level: the depth counterpart of
+    LINEMOD's spreading), 2 within 2, 1 within 3 tolerances, 0 beyond or without scene depth
+    (holes count like features without a value). Relative depths: the shape is compared, not the
+    distance. Samples are also used for the initial pose (estimatePoses) and the depth range
+    (depth_range_margin). Set to 0 after templates were added, the term is off and the samples
+    stay. Not used in the exhaustive mode (plain LINEMOD).
+    Default 0 (off), measured (doc/detector.md, "Depth"): with 63 samples (as many as the
+    features per modality) a flat picture of the object loses 6-80 points and falls under the
+    threshold 80, but on the rendered LM-O scenes of samples/forestmod_detector_bench.cpp it
+    turns 2-4 of 90 top matches (near-ties between neighbouring views) into misses. 63 is the
+    value to use where pictures, posters or screens of the objects are expected. At most 256. */
     CV_PROP_RW int depth_samples;
-    /** Tolerance (mm) of the depth agreement. Default 10: noise of a Kinect-class sensor at 1 m
-    (a few mm) plus LINEMOD's position step at level 0, well under the relief of LM objects. */
+    /** Tolerance (mm) of the depth samples' score. Default 5: about 3 sigma of Kinect-class
+    sensor noise at 1 m (1.5 mm, SyntheticSceneParams::depth_noise); the position error of a
+    candidate is absorbed by the depth range, not by the tolerance. 10 let flat pictures of the
+    shallower views (the ape seen from above: half its pixels within 5-8 mm of the median
+    depth) pass (doc/detector.md, "Depth"). */
     CV_PROP_RW int depth_tolerance;
     /** Flat-window rejection (paper: the rejectors remove "textureless background"): a location
     leaves before the forest when its window holds fewer labelled values (plain quantized, all
