@@ -30,8 +30,8 @@ static const int MODEL_FORMAT_VERSION = 1;
 
 // ---------------------------------------------------------------------------------------------
 DetectorParams::DetectorParams()
-    : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
-      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(5),
+    : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(2),
+      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(63), depth_tolerance(5),
       min_window_labels(0.5f), depth_range_margin(0), dominant_window(3)
 {
     forest.max_depth = 0; // chosen at train(): 8 for one class, 9 for several (paper)
@@ -801,6 +801,33 @@ struct MatchLess
 };
 } // namespace
 
+// A template's depth samples with its pose geometry (detail::DepthTemplate); no samples: null
+// samples, no pose: focal lengths 0.
+static detail::DepthTemplate depthTemplate(const Detector::Impl& impl, const String& class_id,
+                                           int template_id)
+{
+    detail::DepthTemplate t;
+    const std::map<String, std::vector<std::vector<Point3i> > >::const_iterator dit
+        = impl.depth.find(class_id);
+    if (dit == impl.depth.end() || template_id >= (int)dit->second.size()
+        || dit->second[template_id].empty())
+        return t;
+    t.samples = &dit->second[template_id];
+    const std::map<String, std::vector<TemplatePose> >::const_iterator pit
+        = impl.poses.find(class_id);
+    if (pit == impl.poses.end() || template_id >= (int)pit->second.size())
+        return t;
+    const TemplatePose& p = pit->second[template_id];
+    if (!p.valid || p.K(0, 0) <= 0 || p.K(1, 1) <= 0 || p.t[2] <= 0)
+        return t;
+    t.fx = (float)p.K(0, 0);
+    t.fy = (float)p.K(1, 1);
+    t.pp = Point2f((float)(p.K(0, 2) - p.box.x), (float)(p.K(1, 2) - p.box.y));
+    const Vec3d c = p.K * p.t;
+    t.centre = Point2f((float)(c[0] / c[2] - p.box.x), (float)(c[1] / c[2] - p.box.y));
+    return t;
+}
+
 // LINEMOD's pyramid refinement of coarse matches (identical arithmetic). With `depth` and the
 // template's depth samples, the samples join the score at every level like the features of one
 // more modality, at the position the features chose (`depth`: one detail::DepthContext per
@@ -808,9 +835,9 @@ struct MatchLess
 static void refineMatches(const std::vector<LevelMaps>& levels, const TemplatePyramid& tp, int M,
                           float threshold, std::vector<Match>& cands,
                           const detail::DepthContext* depth = 0,
-                          const std::vector<Point3i>* samples = 0)
+                          const detail::DepthTemplate* dt = 0)
 {
-    const int ns = depth && samples ? std::min(256, (int)samples->size()) : 0;
+    const int ns = depth && dt && dt->samples ? std::min(256, (int)dt->samples->size()) : 0;
     const int levels_n = static_cast<int>(levels.size());
     for (int l = levels_n - 2; l >= 0; --l)
     {
@@ -846,7 +873,7 @@ static void refineMatches(const std::vector<LevelMaps>& levels, const TemplatePy
             m.y = (y / T - 8 + best_r) * T + offset;
             if (ns > 0)
             {
-                best += detail::depthSimilarity(depth[l], *samples, Point(m.x << l, m.y << l));
+                best += detail::depthSimilarity(depth[l], *dt, Point(m.x << l, m.y << l));
                 num_features += ns;
             }
             m.similarity = num_features ? (best * 100.f) / (4 * num_features) : 0.f;
@@ -1046,8 +1073,15 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
         const Mat scene_depth = dm >= 0 ? sources[dm] : Mat();
         // a coarse candidate's template lies within [tl, tl + S] (its location misses the
         // anchor by up to S / 2): its depth samples are read at the middle
+        std::vector<detail::DepthTemplate> row_depth;
         if (use_depth)
+        {
             depth_ctx[L].shift = Point(S / 2, S / 2);
+            row_depth.resize(impl.rows.size());
+            for (size_t r = 0; r < impl.rows.size(); ++r)
+                row_depth[r] = depthTemplate(impl, impl.rows[r].class_id,
+                                             impl.rows[r].template_id);
+        }
         const detail::DepthContext* dctx = use_depth ? &depth_ctx[L] : 0;
         const int z_lo = impl.z_min - params.depth_range_margin;
         const int z_hi = impl.z_max + params.depth_range_margin;
@@ -1125,14 +1159,7 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
                         detail::ValidationCandidate v;
                         v.index = row;
                         v.tp = &tp;
-                        v.depth = 0;
-                        if (use_depth)
-                        {
-                            const std::vector<std::vector<Point3i> >& ds
-                                = impl.depth.find(ref.class_id)->second;
-                            if (ref.template_id < (int)ds.size() && !ds[ref.template_id].empty())
-                                v.depth = &ds[ref.template_id];
-                        }
+                        v.depth = use_depth && row_depth[row].samples ? &row_depth[row] : 0;
                         v.zoffset = 0;
                         v.zvalid = false;
                         // the true anchor lies within S/2 of the location; spread responses
@@ -1187,16 +1214,10 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
                 std::vector<Match> one(1, coarse[k]);
                 const TemplatePyramid& tp
                     = class_templates.find(coarse[k].class_id)->second[coarse[k].template_id];
-                const std::vector<Point3i>* samples = 0;
-                if (use_depth)
-                {
-                    const std::vector<std::vector<Point3i> >& ds
-                        = impl.depth.find(coarse[k].class_id)->second;
-                    if (coarse[k].template_id < (int)ds.size()
-                        && !ds[coarse[k].template_id].empty())
-                        samples = &ds[coarse[k].template_id];
-                }
-                refineMatches(levels, tp, M, threshold, one, samples ? &depth_ctx[0] : 0, samples);
+                const detail::DepthTemplate dt = use_depth
+                    ? depthTemplate(impl, coarse[k].class_id, coarse[k].template_id)
+                    : detail::DepthTemplate();
+                refineMatches(levels, tp, M, threshold, one, dt.samples ? &depth_ctx[0] : 0, &dt);
                 if (one.empty())
                     coarse[k].similarity = -1.f;
                 else

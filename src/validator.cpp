@@ -119,9 +119,49 @@ int similarityAll(const LevelMaps& level, const TemplatePyramid& tp, int level_i
     return sum;
 }
 
-bool depthOffset(const Mat& d, const Point3i* samples, int n, Point origin, int& offset)
+void DepthContext::set(const Mat& scene_depth, int radius)
 {
-    CV_DbgAssert(d.type() == CV_16UC1 && n <= 256);
+    CV_Assert(scene_depth.type() == CV_16UC1 && radius >= 0);
+    depth = scene_depth;
+    pp = Point2f(0.5f * (scene_depth.cols - 1), 0.5f * (scene_depth.rows - 1));
+    const Mat k = getStructuringElement(MORPH_RECT, Size(2 * radius + 1, 2 * radius + 1));
+    dilate(scene_depth, zmax, k, Point(-1, -1), 1, BORDER_CONSTANT, Scalar(0));
+    Mat holes_far = scene_depth.clone();
+    holes_far.setTo(Scalar(65535), scene_depth == 0);
+    erode(holes_far, zmin, k, Point(-1, -1), 1, BORDER_CONSTANT, Scalar(65535));
+}
+
+Vec3f depthRotationRow(const DepthContext& dc, const DepthTemplate& t, Point origin)
+{
+    if (t.fx <= 0 || t.fy <= 0)
+        return Vec3f(0, 0, 1);
+    // a: ray through the template's object centre (template camera), b: through the candidate's
+    Vec3f a((t.centre.x - t.pp.x) / t.fx, (t.centre.y - t.pp.y) / t.fy, 1.f);
+    Vec3f b((origin.x + t.centre.x - dc.pp.x) / t.fx, (origin.y + t.centre.y - dc.pp.y) / t.fy,
+            1.f);
+    a *= 1.f / (float)norm(a);
+    b *= 1.f / (float)norm(b);
+    // R = I + [v]x + [v]x^2 / (1 + c), v = a x b, c = a . b (takes a onto b); its third row
+    const Vec3f v = a.cross(b);
+    const float c = a.dot(b), k = 1.f / (1.f + c), v2 = v.dot(v);
+    return Vec3f(-v[1] + k * v[2] * v[0], v[0] + k * v[2] * v[1], 1.f + k * (v[2] * v[2] - v2));
+}
+
+// the template's depth of sample i as seen along the candidate's ray
+static inline int predictedDepth(const DepthTemplate& t, const Vec3f& row, const Point3i& s)
+{
+    if (t.fx <= 0)
+        return s.z;
+    const float z = (float)s.z;
+    const float X = (s.x - t.pp.x) * z / t.fx, Y = (s.y - t.pp.y) * z / t.fy;
+    return cvRound(row[0] * X + row[1] * Y + row[2] * z);
+}
+
+bool depthOffset(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row, int n,
+                 Point origin, int& offset)
+{
+    const Mat& d = dc.depth;
+    const Point3i* samples = &(*t.samples)[0];
     int diff[256];
     int k = 0;
     n = std::min(n, 256);
@@ -132,7 +172,7 @@ bool depthOffset(const Mat& d, const Point3i* samples, int n, Point origin, int&
             continue;
         const int z = d.ptr<ushort>(y)[x];
         if (z > 0)
-            diff[k++] = z - samples[i].z;
+            diff[k++] = z - predictedDepth(t, row, samples[i]);
     }
     if (k == 0 || 4 * k < n)
         return false;
@@ -141,21 +181,11 @@ bool depthOffset(const Mat& d, const Point3i* samples, int n, Point origin, int&
     return true;
 }
 
-void DepthContext::set(const Mat& scene_depth, int radius)
-{
-    CV_Assert(scene_depth.type() == CV_16UC1 && radius >= 0);
-    depth = scene_depth;
-    const Mat k = getStructuringElement(MORPH_RECT, Size(2 * radius + 1, 2 * radius + 1));
-    dilate(scene_depth, zmax, k, Point(-1, -1), 1, BORDER_CONSTANT, Scalar(0));
-    Mat holes_far = scene_depth.clone();
-    holes_far.setTo(Scalar(65535), scene_depth == 0);
-    erode(holes_far, zmin, k, Point(-1, -1), 1, BORDER_CONSTANT, Scalar(65535));
-}
-
-int depthSimilarityRange(const DepthContext& dc, const Point3i* samples, Point origin, int offset,
-                         int begin, int end)
+int depthSimilarityRange(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row,
+                         Point origin, int offset, int begin, int end)
 {
     const Mat& d = dc.depth;
+    const Point3i* samples = &(*t.samples)[0];
     int sum = 0;
     for (int i = begin; i < end; ++i)
     {
@@ -164,20 +194,23 @@ int depthSimilarityRange(const DepthContext& dc, const Point3i* samples, Point o
             continue;
         if (d.ptr<ushort>(y)[x] == 0)
             continue; // no depth at the sample itself: like a feature without a value
-        const int z = samples[i].z + offset;
+        const int z = predictedDepth(t, row, samples[i]) + offset;
         const int lo = dc.zmin.ptr<ushort>(y)[x], hi = dc.zmax.ptr<ushort>(y)[x];
         sum += depthResponse(z < lo ? lo - z : z > hi ? z - hi : 0, dc.tolerance);
     }
     return sum;
 }
 
-int depthSimilarity(const DepthContext& dc, const std::vector<Point3i>& samples, Point origin)
+int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin)
 {
-    const int n = static_cast<int>(samples.size());
+    const int n = t.samples ? std::min(256, static_cast<int>(t.samples->size())) : 0;
     int offset = 0;
-    if (n == 0 || !depthOffset(dc.depth, &samples[0], n, origin, offset))
+    if (n == 0)
         return 0;
-    return depthSimilarityRange(dc, &samples[0], origin, offset, 0, n);
+    const Vec3f row = depthRotationRow(dc, t, origin);
+    if (!depthOffset(dc, t, row, n, origin, offset))
+        return 0;
+    return depthSimilarityRange(dc, t, row, origin, offset, 0, n);
 }
 
 // level-0 position of a candidate's template top-left
@@ -188,7 +221,16 @@ static inline Point depthOrigin(const DepthContext& dc, Point tl)
 
 static inline int depthCount(const DepthContext* dc, const ValidationCandidate& c)
 {
-    return dc && c.depth ? std::min(256, static_cast<int>(c.depth->size())) : 0;
+    return dc && c.depth && c.depth->samples
+        ? std::min(256, static_cast<int>(c.depth->samples->size())) : 0;
+}
+
+// the candidate's rotation row and offset, once
+static void depthPrepare(const DepthContext& dc, ValidationCandidate& c, int ns)
+{
+    const Point o = depthOrigin(dc, c.tl);
+    c.zrow = depthRotationRow(dc, *c.depth, o);
+    c.zvalid = depthOffset(dc, *c.depth, c.zrow, ns, o, c.zoffset);
 }
 
 static int scoreAll(const LevelMaps& level, int level_index, ValidationCandidate& c,
@@ -199,11 +241,11 @@ static int scoreAll(const LevelMaps& level, int level_index, ValidationCandidate
     const int ns = depthCount(dc, c);
     if (ns > 0)
     {
-        const Point o = depthOrigin(*dc, c.tl);
         if (!c.zvalid)
-            c.zvalid = depthOffset(dc->depth, &(*c.depth)[0], ns, o, c.zoffset);
+            depthPrepare(*dc, c, ns);
         if (c.zvalid)
-            raw += depthSimilarityRange(*dc, &(*c.depth)[0], o, c.zoffset, 0, ns);
+            raw += depthSimilarityRange(*dc, *c.depth, c.zrow, depthOrigin(*dc, c.tl), c.zoffset,
+                                        0, ns);
     }
     c.total = nf + ns;
     return raw;
@@ -242,8 +284,7 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
         const int ns = depthCount(depth, c);
         c.total += ns;
         if (ns > 0)
-            c.zvalid = depthOffset(depth->depth, &(*c.depth)[0], ns, depthOrigin(*depth, c.tl),
-                                   c.zoffset);
+            depthPrepare(*depth, c, ns);
     }
     std::vector<float> scores;
     // chunk k of a candidate covers the fraction [k/K, (k+1)/K) of every modality's features, so
@@ -274,7 +315,7 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
                     const int b = static_cast<int>((int64)ns * k / K);
                     const int e = static_cast<int>((int64)ns * (k + 1) / K);
                     if (c.zvalid)
-                        c.raw += depthSimilarityRange(*depth, &(*c.depth)[0],
+                        c.raw += depthSimilarityRange(*depth, *c.depth, c.zrow,
                                                       depthOrigin(*depth, c.tl), c.zoffset, b, e);
                     c.scored += e - b;
                 }

@@ -66,10 +66,31 @@ struct DepthContext
     int tolerance;  //!< mm: a residual within it scores 4
     int scale_shift; //!< a level's pixel -> level 0: << scale_shift
     Point shift;    //!< added to a candidate's top-left (level pixels): the template's likely position
+    Point2f pp;     //!< the scene's principal point, taken as the image centre
 
     /** depth, zmin, zmax of a scene depth with a square of (2 radius + 1)^2 pixels. */
     void set(const Mat& scene_depth, int radius);
 };
+
+/** A template's depth samples and the geometry that predicts them elsewhere in the image: an
+object seen at another image position is seen along another ray, and its depths (z, not the
+distance along the ray) tilt accordingly (up to +-15 mm over an LM-O object 20 degrees off the
+axis). The template's camera points P_i = z_i K_t^-1 (u_i, v_i, 1) are turned by the rotation
+that takes the ray through the template's object centre onto the ray through the candidate's
+(the scene's focal length taken as the template's, its principal point as the image centre);
+the predicted depth is the z of the turned point. */
+struct DepthTemplate
+{
+    DepthTemplate() : samples(0), fx(0), fy(0) {}
+    const std::vector<Point3i>* samples; //!< x, y relative to the top-left (level 0), z mm
+    Point2f pp;     //!< the template's principal point relative to its top-left (level 0)
+    Point2f centre; //!< its object centre (projection of t) relative to its top-left
+    float fx, fy;   //!< its focal lengths; 0: no pose, depths compared as they are
+};
+
+/** Third row of that rotation for the template's top-left at `origin` (level 0); (0, 0, 1)
+without a pose. */
+Vec3f depthRotationRow(const DepthContext& dc, const DepthTemplate& t, Point origin);
 
 /** 0..4 by the residual r (mm): 4 when r <= tol, 2 when r <= 2 tol, 1 when r <= 3 tol, else 0. */
 static inline int depthResponse(int r, int tol)
@@ -78,29 +99,32 @@ static inline int depthResponse(int r, int tol)
     return r <= tol ? 4 : r <= 2 * tol ? 2 : r <= 3 * tol ? 1 : 0;
 }
 
-/** Median offset (scene minus template, mm) of n <= 256 samples at `origin` (level 0). Returns
-false (no offset: every sample then scores 0) when fewer than a quarter of them have depth. */
-bool depthOffset(const Mat& depth, const Point3i* samples, int n, Point origin, int& offset);
+/** Median offset (scene minus predicted template depth, mm) of the first n <= 256 samples at
+`origin` (level 0), with `row` from depthRotationRow(). Returns false (no offset: every sample then
+scores 0) when fewer than a quarter of them have scene depth. */
+bool depthOffset(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row, int n,
+                 Point origin, int& offset);
 
 /** Sum of depthResponse() over the samples [begin, end) at `origin` with the given offset. */
-int depthSimilarityRange(const DepthContext& dc, const Point3i* samples, Point origin, int offset,
-                         int begin, int end);
+int depthSimilarityRange(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row,
+                         Point origin, int offset, int begin, int end);
 
-/** Offset and all samples: 0..4 per sample. */
-int depthSimilarity(const DepthContext& dc, const std::vector<Point3i>& samples, Point origin);
+/** Rotation row, offset and all samples: 0..4 per sample. */
+int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin);
 
 /** A candidate of validation: a template and where its top-left is at the coarsest level. */
 struct ValidationCandidate
 {
     int index;     //!< caller's index
     const TemplatePyramid* tp;
-    const std::vector<Point3i>* depth; //!< the template's depth samples, or null
+    const DepthTemplate* depth; //!< the template's depth samples, or null
     Point tl;
     int raw;       //!< accumulated raw score
     int scored;    //!< features (and depth samples) scored so far
     int total;     //!< features of the template (all modalities) + depth samples
     int zoffset;   //!< depth offset (scene minus template, mm)
     bool zvalid;   //!< zoffset is known
+    Vec3f zrow;    //!< depthRotationRow() at the candidate
 };
 
 /** Scores every candidate on all its features (no pruning); depth samples join when `depth` is

@@ -330,7 +330,7 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
     sp.inplane_step = 10;
     const std::vector<Ptr<linemod::Modality> > mods = getDefaultForestLINEMOD()->getModalities();
     DetectorParams on;
-    on.depth_samples = 63; // off by default (doc/detector.md, "Depth"); depth_tolerance: default
+    ASSERT_GT(on.depth_samples, 0) << "depth as a validation modality is on by default";
     cv::forestmod::Detector det(mods, rgbdPyramid(), on);
     std::vector<TemplateView> views;
     renderTemplates(ape, ViewSampler(sp), K, size, views);
@@ -352,7 +352,9 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
     synth.setBackgrounds(backgrounds());
     DetectorParams off = on;
     off.depth_samples = 0; // the samples stay, the validation term is off
-    const int scenes = 3;
+    const int scenes = 8;
+    std::vector<double> drops;
+    int detected_on = 0, detected_off = 0;
     for (int k = 0; k < scenes; ++k)
     {
         RNG rng(31 + k);
@@ -390,16 +392,14 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
         std::cout << "[ INFO    ] scene " << k << ": object " << obj[0] << " % (depth off "
                   << obj[1] << " %), picture " << picture[0] << " % (depth off " << picture[1]
                   << " %)" << std::endl;
-        // measured (3 scenes): the picture 81-85 % without the term, 0 (not found) / 78 / 75 %
-        // with it; the object 97-100 % both ways (drop <= 1.7 points)
         ASSERT_GT(obj[1], 95.0) << "scene " << k << ": the object must be found";
         ASSERT_GT(picture[1], 75.0) << "scene " << k << ": the picture must look like the object "
                                        "to the colour modalities";
         EXPECT_GT(obj[0], 95.0) << "scene " << k;
-        EXPECT_GE(obj[0], obj[1] - 3.0) << "scene " << k << ": depth must not cost the object";
-        EXPECT_GE(picture[1] - picture[0], 4.0) << "scene " << k << ": the picture's score must "
-                                                   "fall with depth";
-        EXPECT_GE(obj[0] - picture[0], 15.0) << "scene " << k;
+        EXPECT_GE(obj[0], obj[1] - 2.0) << "scene " << k << ": depth must not cost the object";
+        drops.push_back(picture[1] - picture[0]);
+        detected_on += picture[0] >= 80;
+        detected_off += picture[1] >= 80;
         if (k == 0)
         {
             // model files keep the samples: a reloaded detector scores the same
@@ -420,6 +420,18 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
                             && a[i].similarity == b[i].similarity) << i;
         }
     }
+    // measured (8 scenes): the object 96.8-99.7 % both ways (depth costs it <= 1.0 point); the
+    // picture 81.2-93.9 % without depth, with it 0 (not found) twice, 71.8-79.2 five times, and
+    // 82.9 / 92.3 % where the best template at the picture is a shallow view (the ape from above:
+    // its relief is within the tolerance). Median drop 8.9 points; at the threshold 80 the
+    // picture is detected 8 times without depth, 2 times with it.
+    std::sort(drops.begin(), drops.end());
+    const double median_drop = 0.5 * (drops[scenes / 2 - 1] + drops[scenes / 2]);
+    std::cout << "[ INFO    ] picture: median drop " << median_drop << " points, above 80 %: "
+              << detected_off << " without depth, " << detected_on << " with" << std::endl;
+    EXPECT_GE(median_drop, 5.0);
+    EXPECT_GE(detected_off, scenes - 1) << "the colour modalities take the picture for the object";
+    EXPECT_LE(detected_on, 3) << "depth must reject most pictures at the threshold 80";
     DetectorParams bad = on;
     bad.depth_samples = 257;
     EXPECT_THROW(det.setParams(bad), cv::Exception);
