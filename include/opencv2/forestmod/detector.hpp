@@ -44,8 +44,10 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_PROP_RW float alpha;
     /** Breadth-first validation stops when this many candidates (or fewer) are left, and this
     many best candidates of a location go on to pyramid refinement. Paper: 1 ("until there is
-    only one or no candidate left"); 2 did not change the hits of the rendered-scene bench
-    (doc/detector.md). */
+    only one or no candidate left"). Default 2, measured (doc/detector.md, "Depth"): with the
+    depth modality the coarse level sometimes ranks the right view a hair below a neighbouring
+    one at every location (1 of 90 hits lost on the rendered scenes); the finer level decides
+    when two go on. Without depth, 2 and 1 give the same hits. */
     CV_PROP_RW int max_survivors;
     /** Grid points per side of the descriptor window (paper: the template's sample locations r).
     The window covers every template at the coarsest pyramid level. Default 12 (144 points per
@@ -61,30 +63,33 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     output is, as in cv::linemod, every match above the threshold). Default 0.5. */
     CV_PROP_RW float nms_iou;
     /** Depth as a validation modality (paper: "we add depth value as another modality in the
-    validation stage to measure shape similarity"), with a DepthNormal modality. addTemplate keeps
-    up to this many depth samples per template: its points farthest in depth from its median,
-    spread over the object (like LINEMOD's features). In breadth-first validation and at every
-    pyramid refinement level the samples are scored with the features, 0..4 each like LINEMOD's
-    response, so that with as many samples as features per modality depth weighs like one more
-    modality: the scene's offset at the candidate is the median of (scene - template) over the
-    samples, and a sample scores 4 when its template depth + offset lies within depth_tolerance
-    of the scene's depth range around it (+-T / 2 pixels of the level: the depth counterpart of
-    LINEMOD's spreading), 2 within 2, 1 within 3 tolerances, 0 beyond or without scene depth
-    (holes count like features without a value). Relative depths: the shape is compared, not the
-    distance. Samples are also used for the initial pose (estimatePoses) and the depth range
-    (depth_range_margin). Set to 0 after templates were added, the term is off and the samples
-    stay. Not used in the exhaustive mode (plain LINEMOD).
-    Default 0 (off), measured (doc/detector.md, "Depth"): with 63 samples (as many as the
-    features per modality) a flat picture of the object loses 6-80 points and falls under the
-    threshold 80, but on the rendered LM-O scenes of samples/forestmod_detector_bench.cpp it
-    turns 2-4 of 90 top matches (near-ties between neighbouring views) into misses. 63 is the
-    value to use where pictures, posters or screens of the objects are expected. At most 256. */
+    validation stage to measure shape similarity"), with a DepthNormal modality: addTemplate
+    keeps up to this many depth samples per template (spread over the object eroded by 2 px).
+    In breadth-first validation (every chunk takes its share of them) and at every pyramid
+    refinement level they are scored with the features, 0..4 each like LINEMOD's response, so
+    that with as many samples as features per modality depth weighs like one more modality.
+    Relative depths, the shape and not the distance: the template's depths are first predicted
+    for the candidate's image position (turned onto its viewing ray with the template's pose and
+    K, the scene's principal point taken as the image centre), the offset is the median of
+    (scene - predicted) over the samples, and a sample scores 4 when predicted + offset lies
+    within depth_tolerance of the scene's depth range around it (+-T / 2 pixels of the level:
+    the depth counterpart of LINEMOD's spreading), 2 within 2 and 1 within 3 tolerances, else 0.
+    A sample without scene depth (hole, outside the image) scores 0, as a feature without a
+    value does; with fewer than a quarter of them with depth, all score 0. The samples also give
+    the initial pose (estimatePoses) and the depth range (depth_range_margin). Set to 0 after
+    templates were added, the term is off and the samples stay. Not used in the exhaustive mode
+    (plain LINEMOD). At most 256.
+    Default 63 (as many as LINEMOD's features per modality), measured (doc/detector.md,
+    "Depth"): a flat picture of the object on the supporting plane loses a median 8.9 points and
+    is detected at the threshold 80 in 2 of 8 scenes instead of 8 (the 2: views whose relief is
+    within the tolerance), the object keeps its score (within 1 point), the rendered LM-O scenes
+    keep 90 of 90 hits (with max_survivors 2), and false matches on clutter drop. */
     CV_PROP_RW int depth_samples;
     /** Tolerance (mm) of the depth samples' score. Default 5: about 3 sigma of Kinect-class
-    sensor noise at 1 m (1.5 mm, SyntheticSceneParams::depth_noise); the position error of a
-    candidate is absorbed by the depth range, not by the tolerance. 10 let flat pictures of the
-    shallower views (the ape seen from above: half its pixels within 5-8 mm of the median
-    depth) pass (doc/detector.md, "Depth"). */
+    noise at 1 m (1.5 mm, SyntheticSceneParams::depth_noise); a candidate's position error is
+    absorbed by the depth range, not by the tolerance. With 10 the pictures of shallow views
+    pass (the ape's relief: half its pixels within 5-8 mm of its median depth) and near-ties
+    between views are decided less well (doc/detector.md, "Depth"). */
     CV_PROP_RW int depth_tolerance;
     /** Flat-window rejection (paper: the rejectors remove "textureless background"): a location
     leaves before the forest when its window holds fewer labelled values (plain quantized, all
