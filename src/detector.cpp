@@ -319,10 +319,11 @@ static Rect cropTemplatePyramid(TemplatePyramid& templates)
 }
 
 // Up to n depth samples of a template (x, y relative to `tl`, z mm) on the object eroded by 2 px
-// (no mixed depth at the rim). Like LINEMOD's features they are the informative points, spread
-// out: the points farthest in depth from the template's median come first (a point at the
-// median agrees with a flat picture as well as with the object), taken greedily at least d
-// pixels apart, d shrinking from the spacing of n points over the object until n are chosen.
+// (no mixed depth at the rim), spread evenly: taken greedily at least d pixels apart, d from the
+// spacing of n points over the object (shrinking until n are chosen), in order of distance from
+// the template's median depth, so that of each neighbourhood the point with more relief is taken
+// (a point at the median agrees with a flat picture as well as with the object). Taking only
+// the extreme points was worse (doc/detector.md, "Depth").
 static void selectDepthSamples(const Mat& depth, const Mat& mask, Point tl, int n,
                                std::vector<Point3i>& samples)
 {
