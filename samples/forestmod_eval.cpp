@@ -64,6 +64,9 @@ static const char* keys
       "{depth_samples   | -1       | experiment: DetectorParams::depth_samples (-1: library "
       "default; > 0: depth as a validation modality, templates cached separately) }"
       "{depth_tolerance | -1       | experiment: DetectorParams::depth_tolerance (mm; -1: default) }"
+      "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
+      "{depth_validation | 1       | experiment: 0 turns the depth validation term off after the "
+      "templates (with their depth samples, used for the initial poses) are made }"
       "{force           |          | overwrite the --json file and heat map PNGs }";
 
 // ---------------------------------------------------------------------------------------------
@@ -243,6 +246,8 @@ struct TemplateSetup
 
 // --depth_samples / --depth_tolerance (-1: the library's defaults)
 static int g_depth_samples = -1, g_depth_tolerance = -1;
+static int g_max_survivors = -1;
+static bool g_depth_validation = true;
 
 static fm::DetectorParams experimentParams(fm::DetectorParams p)
 {
@@ -250,6 +255,8 @@ static fm::DetectorParams experimentParams(fm::DetectorParams p)
         p.depth_samples = g_depth_samples;
     if (g_depth_tolerance > 0)
         p.depth_tolerance = g_depth_tolerance;
+    if (g_max_survivors > 0)
+        p.max_survivors = g_max_survivors;
     return p;
 }
 
@@ -361,7 +368,10 @@ static cv::Ptr<fm::Detector> objectTemplates(ObjectInfo& obj, const TemplateSetu
         {
             progress.show(obj.name + ": loading cached templates");
             det->load(obj.cache_file);
-            det->setParams(experimentParams(det->getParams()));
+            fm::DetectorParams p = experimentParams(det->getParams());
+            if (!g_depth_validation)
+                p.depth_samples = 0; // the samples loaded stay
+            det->setParams(p);
             det->setMesh(obj.class_id, obj.mesh);
             obj.templates = det->numTemplates(obj.class_id);
             return det;
@@ -820,6 +830,8 @@ int main(int argc, char** argv)
     const int seed = parser.get<int>("seed");
     g_depth_samples = parser.get<int>("depth_samples");
     g_depth_tolerance = parser.get<int>("depth_tolerance");
+    g_depth_validation = parser.get<int>("depth_validation") != 0;
+    g_max_survivors = parser.get<int>("max_survivors");
     const bool force = parser.has("force");
     const bool multi = !parser.has("no_multi");
     fm::ViewSampler::Params sp;

@@ -30,8 +30,8 @@ static const int MODEL_FORMAT_VERSION = 1;
 
 // ---------------------------------------------------------------------------------------------
 DetectorParams::DetectorParams()
-    : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(2),
-      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(63), depth_tolerance(5),
+    : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
+      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(5),
       min_window_labels(0.5f), depth_range_margin(0), dominant_window(3)
 {
     forest.max_depth = 0; // chosen at train(): 8 for one class, 9 for several (paper)

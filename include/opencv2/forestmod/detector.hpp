@@ -44,10 +44,10 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_PROP_RW float alpha;
     /** Breadth-first validation stops when this many candidates (or fewer) are left, and this
     many best candidates of a location go on to pyramid refinement. Paper: 1 ("until there is
-    only one or no candidate left"). Default 2, measured (doc/detector.md, "Depth"): with the
-    depth modality the coarse level sometimes ranks the right view a hair below a neighbouring
-    one at every location (1 of 90 hits lost on the rendered scenes); the finer level decides
-    when two go on. Without depth, 2 and 1 give the same hits. */
+    only one or no candidate left"); without depth 2 gives the same hits (doc/detector.md). With
+    the depth modality (depth_samples) use 2: the coarse level then sometimes ranks the right view
+    a hair below a neighbouring one at every location (1 of 90 hits lost on the rendered scenes
+    with 1); the finer level decides when two go on. */
     CV_PROP_RW int max_survivors;
     /** Grid points per side of the descriptor window (paper: the template's sample locations r).
     The window covers every template at the coarsest pyramid level. Default 12 (144 points per
@@ -79,11 +79,16 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     the initial pose (estimatePoses) and the depth range (depth_range_margin). Set to 0 after
     templates were added, the term is off and the samples stay. Not used in the exhaustive mode
     (plain LINEMOD). At most 256.
-    Default 63 (as many as LINEMOD's features per modality), measured (doc/detector.md,
-    "Depth"): a flat picture of the object on the supporting plane loses a median 8.9 points and
-    is detected at the threshold 80 in 2 of 8 scenes instead of 8 (the 2: views whose relief is
-    within the tolerance), the object keeps its score (within 1 point), the rendered LM-O scenes
-    keep 90 of 90 hits (with max_survivors 2), and false matches on clutter drop. */
+    Default 0 (off), measured (doc/detector.md, "Depth"). With 63 (as many as LINEMOD's
+    features per modality), depth_tolerance 5 and max_survivors 2: a flat picture of the object
+    on the supporting plane loses a median 8.9 points and is detected at the threshold 80 in 2 of
+    8 scenes instead of 8, the object keeps its score (within 1 point); the rendered scenes of
+    forestmod_detector_bench keep 90 of 90 hits and their false matches at the threshold 80 fall
+    from 6.6 / 4.8 / 1.1 to 2.5 / 0 / 0 per scene. But on forestmod_eval --synthetic=5 the 1-tree
+    ADD falls from 92.5 to 82.5 % (5 trees: 95.0 -> 97.5 %), and for objects the forest rejects
+    little of (can, driller, eggbox: 2-5 % rejected) validation takes 5-15x longer (every
+    candidate pays n lookups and a median before its first chunk). Use 63 where pictures,
+    screens or flat clutter resembling the objects are expected. */
     CV_PROP_RW int depth_samples;
     /** Tolerance (mm) of the depth samples' score. Default 5: about 3 sigma of Kinect-class
     noise at 1 m (1.5 mm, SyntheticSceneParams::depth_noise); a candidate's position error is
