@@ -384,7 +384,7 @@ int main(int argc, char** argv)
                                     "matches %d\n", cls.c_str(), k, hf ? "hit " : "miss",
                                     he ? "hit " : "miss", 100 * st.rejectedFraction(),
                                     (int)mf.size());
-                    if (verbose && hf != he)
+                    if (verbose && (hf != he || !hf))
                     {
                         const PoseMatch* ms[2] = { mf.empty() ? 0 : &mf[0],
                                                    me.empty() ? 0 : &me[0] };

@@ -64,6 +64,12 @@ static const char* keys
       "cv::linemod) }"
       "{train_threads   | 2        | OpenCV threads while training the forests (not timed) }"
       "{seed            | 1        | random seed of --synthetic }"
+      "{depth_samples   | -1       | experiment: DetectorParams::depth_samples (-1: library "
+      "default; > 0: depth as a validation modality, templates cached separately) }"
+      "{depth_tolerance | -1       | experiment: DetectorParams::depth_tolerance (mm; -1: default) }"
+      "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
+      "{depth_validation | 1       | experiment: 0 turns the depth validation term off after the "
+      "templates (with their depth samples, used for the initial poses) are made }"
       "{force           |          | overwrite the --json file and heat map PNGs }";
 
 // ---------------------------------------------------------------------------------------------
@@ -241,6 +247,22 @@ struct TemplateSetup
     cv::Size size;   // image size of the dataset
 };
 
+// --depth_samples / --depth_tolerance (-1: the library's defaults)
+static int g_depth_samples = -1, g_depth_tolerance = -1;
+static int g_max_survivors = -1;
+static bool g_depth_validation = true;
+
+static fm::DetectorParams experimentParams(fm::DetectorParams p)
+{
+    if (g_depth_samples >= 0)
+        p.depth_samples = g_depth_samples;
+    if (g_depth_tolerance > 0)
+        p.depth_tolerance = g_depth_tolerance;
+    if (g_max_survivors > 0)
+        p.max_survivors = g_max_survivors;
+    return p;
+}
+
 static cv::Ptr<fm::Detector> makeDetector(const std::vector<std::string>& modalities)
 {
     // LINEMOD's pyramid (T = 5, 8) with the modalities asked for
@@ -252,7 +274,7 @@ static cv::Ptr<fm::Detector> makeDetector(const std::vector<std::string>& modali
     std::vector<int> T;
     T.push_back(5);
     T.push_back(8);
-    return cv::makePtr<fm::Detector>(mods, T);
+    return cv::makePtr<fm::Detector>(mods, T, experimentParams(fm::DetectorParams()));
 }
 
 /** Templates are rendered in a square window around the principal point, large enough for the
@@ -297,6 +319,9 @@ static std::string cacheKey(const ObjectInfo& obj, const TemplateSetup& setup, i
     setup.sampler.params.write(fs);
     fs << "}";
     fs << "mesh_size" << (double)mesh_size;
+    const int ds = experimentParams(fm::DetectorParams()).depth_samples;
+    if (ds > 0) // templates with depth samples (their selection as of this version)
+        fs << "depth_samples" << ds << "depth_sampler" << 2;
     const std::string text = fs.releaseAndGetString();
     const uint64_t h = fnv1a(text.data(), text.size(), mesh_hash);
     return cv::format("%s_%016llx", obj.name.c_str(), (unsigned long long)h);
@@ -346,9 +371,12 @@ static cv::Ptr<fm::Detector> objectTemplates(ObjectInfo& obj, const TemplateSetu
         {
             progress.show(obj.name + ": loading cached templates");
             det->load(obj.cache_file);
-            // the cache holds templates; the parameters are this build's defaults, not those
-            // saved with the cached model
-            det->setParams(fm::DetectorParams());
+            // the cache holds templates; the parameters are this build's defaults (and the
+            // command's flags), not those saved with the cached model
+            fm::DetectorParams p = experimentParams(det->getParams());
+            if (!g_depth_validation)
+                p.depth_samples = 0; // the samples loaded stay
+            det->setParams(p);
             det->setMesh(obj.class_id, obj.mesh);
             obj.templates = det->numTemplates(obj.class_id);
             return det;
@@ -818,6 +846,10 @@ int main(int argc, char** argv)
     const int threads = parser.get<int>("threads");
     const int train_threads = parser.get<int>("train_threads");
     const int seed = parser.get<int>("seed");
+    g_depth_samples = parser.get<int>("depth_samples");
+    g_depth_tolerance = parser.get<int>("depth_tolerance");
+    g_depth_validation = parser.get<int>("depth_validation") != 0;
+    g_max_survivors = parser.get<int>("max_survivors");
     const bool force = parser.has("force");
     const bool multi = !parser.has("no_multi");
     fm::ViewSampler::Params sp;

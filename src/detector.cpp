@@ -31,7 +31,7 @@ static const int MODEL_FORMAT_VERSION = 1;
 // ---------------------------------------------------------------------------------------------
 DetectorParams::DetectorParams()
     : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
-      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(10),
+      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(5),
       min_window_labels(0.5f), depth_range_margin(0), dominant_window(3),
       group_size_ratio(1.3f), max_group_classes(0), auto_depth_leaf_samples(2.f),
       grey_hue_label(false)
@@ -394,6 +394,62 @@ static Rect cropTemplatePyramid(TemplatePyramid& templates)
     return Rect(min_x, min_y, max_x - min_x, max_y - min_y);
 }
 
+// Up to n depth samples of a template (x, y relative to `tl`, z mm) on the object eroded by 2 px
+// (no mixed depth at the rim), spread evenly: taken greedily at least d pixels apart, d from the
+// spacing of n points over the object (shrinking until n are chosen), in order of distance from
+// the template's median depth, so that of each neighbourhood the point with more relief is taken
+// (a point at the median agrees with a flat picture as well as with the object). Taking only
+// the extreme points was worse (doc/detector.md, "Depth").
+static void selectDepthSamples(const Mat& depth, const Mat& mask, Point tl, int n,
+                               std::vector<Point3i>& samples)
+{
+    samples.clear();
+    Mat on = (mask > 0) & (depth > 0);
+    Mat inner;
+    erode(on, inner, Mat(), Point(-1, -1), 2, BORDER_CONSTANT, Scalar(0));
+    if (countNonZero(inner) < n) // small or thin object: less margin
+        inner = on;
+    std::vector<Point> all;
+    findNonZero(inner, all);
+    if (all.empty())
+        return;
+    std::vector<int> z(all.size());
+    for (size_t i = 0; i < all.size(); ++i)
+        z[i] = depth.at<ushort>(all[i]);
+    std::vector<int> sorted(z);
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const int zmed = sorted[sorted.size() / 2];
+    std::vector<int> order(all.size());
+    for (size_t i = 0; i < order.size(); ++i)
+        order[i] = (int)i;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+        return std::abs(z[a] - zmed) > std::abs(z[b] - zmed);
+    });
+    std::vector<Point> chosen;
+    for (int d = std::max(1, cvRound(std::sqrt((double)all.size() / n))); d >= 1; --d)
+    {
+        chosen.clear();
+        const int d2 = d * d;
+        for (size_t k = 0; k < order.size() && (int)chosen.size() < n; ++k)
+        {
+            const Point p = all[order[k]];
+            bool far_enough = true;
+            for (size_t j = 0; j < chosen.size() && far_enough; ++j)
+            {
+                const Point q = p - chosen[j];
+                far_enough = q.x * q.x + q.y * q.y >= d2;
+            }
+            if (far_enough)
+                chosen.push_back(p);
+        }
+        if ((int)chosen.size() >= n)
+            break;
+    }
+    for (size_t i = 0; i < chosen.size(); ++i)
+        samples.push_back(Point3i(chosen[i].x - tl.x, chosen[i].y - tl.y,
+                                  depth.at<ushort>(chosen[i])));
+}
+
 static int templateAddImpl(Detector& self, std::vector<Ptr<Modality> >& modalities,
                            int pyramid_levels, std::map<String, std::vector<TemplatePyramid> >& ct,
                            Detector::Impl& impl, const std::vector<Mat>& sources,
@@ -465,23 +521,12 @@ static int templateAddImpl(Detector& self, std::vector<Ptr<Modality> >& modaliti
         }
     }
 
-    // depth samples spread over the (eroded) object, away from depth edges, relative to the
-    // template's top-left at level 0
+    // depth samples (depth as a validation modality, detail::DepthContext)
     std::vector<Point3i> depth_samples;
     const int dm = depthModality(modalities);
     if (dm >= 0 && impl.params.depth_samples > 0)
-    {
-        Mat inner;
-        erode(object_mask, inner, Mat(), Point(-1, -1), 3, BORDER_CONSTANT, Scalar(0));
-        std::vector<Point3i> all;
-        for (int y = 0; y < inner.rows; ++y)
-            for (int x = 0; x < inner.cols; ++x)
-                if (inner.at<uchar>(y, x) && sources[dm].at<ushort>(y, x))
-                    all.push_back(Point3i(x - bb.x, y - bb.y, sources[dm].at<ushort>(y, x)));
-        const size_t n = std::min(all.size(), (size_t)impl.params.depth_samples);
-        for (size_t i = 0; i < n; ++i)
-            depth_samples.push_back(all[i * all.size() / n]);
-    }
+        selectDepthSamples(sources[dm], object_mask, bb.tl(), impl.params.depth_samples,
+                           depth_samples);
 
     std::vector<TemplatePyramid>& pyramids = ct[class_id];
     const int template_id = static_cast<int>(pyramids.size());
@@ -948,10 +993,43 @@ struct MatchLess
 };
 } // namespace
 
-// LINEMOD's pyramid refinement of coarse matches (identical arithmetic).
-static void refineMatches(const std::vector<LevelMaps>& levels, const TemplatePyramid& tp, int M,
-                          float threshold, std::vector<Match>& cands)
+// A template's depth samples with its pose geometry (detail::DepthTemplate); no samples: null
+// samples, no pose: focal lengths 0.
+static detail::DepthTemplate depthTemplate(const Detector::Impl& impl, const String& class_id,
+                                           int template_id)
 {
+    detail::DepthTemplate t;
+    const std::map<String, std::vector<std::vector<Point3i> > >::const_iterator dit
+        = impl.depth.find(class_id);
+    if (dit == impl.depth.end() || template_id >= (int)dit->second.size()
+        || dit->second[template_id].empty())
+        return t;
+    t.samples = &dit->second[template_id];
+    const std::map<String, std::vector<TemplatePose> >::const_iterator pit
+        = impl.poses.find(class_id);
+    if (pit == impl.poses.end() || template_id >= (int)pit->second.size())
+        return t;
+    const TemplatePose& p = pit->second[template_id];
+    if (!p.valid || p.K(0, 0) <= 0 || p.K(1, 1) <= 0 || p.t[2] <= 0)
+        return t;
+    t.fx = (float)p.K(0, 0);
+    t.fy = (float)p.K(1, 1);
+    t.pp = Point2f((float)(p.K(0, 2) - p.box.x), (float)(p.K(1, 2) - p.box.y));
+    const Vec3d c = p.K * p.t;
+    t.centre = Point2f((float)(c[0] / c[2] - p.box.x), (float)(c[1] / c[2] - p.box.y));
+    return t;
+}
+
+// LINEMOD's pyramid refinement of coarse matches (identical arithmetic). With `depth` and the
+// template's depth samples, the samples join the score at every level like the features of one
+// more modality, at the position the features chose (`depth`: one detail::DepthContext per
+// pyramid level).
+static void refineMatches(const std::vector<LevelMaps>& levels, const TemplatePyramid& tp, int M,
+                          float threshold, std::vector<Match>& cands,
+                          const detail::DepthContext* depth = 0,
+                          const detail::DepthTemplate* dt = 0)
+{
+    const int ns = depth && dt && dt->samples ? std::min(256, (int)dt->samples->size()) : 0;
     const int levels_n = static_cast<int>(levels.size());
     for (int l = levels_n - 2; l >= 0; --l)
     {
@@ -985,6 +1063,11 @@ static void refineMatches(const std::vector<LevelMaps>& levels, const TemplatePy
                 }
             m.x = (x / T - 8 + best_c) * T + offset;
             m.y = (y / T - 8 + best_r) * T + offset;
+            if (ns > 0)
+            {
+                best += detail::depthSimilarity(depth[l], *dt, Point(m.x << l, m.y << l));
+                num_features += ns;
+            }
             m.similarity = num_features ? (best * 100.f) / (4 * num_features) : 0.f;
         }
         std::vector<Match> kept;
@@ -1077,7 +1160,24 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
     std::vector<LevelMaps> levels;
     quantizeFrame(modalities, T_at_level, sources, masks, 0, levels, quantized_images);
     const int dm = depthModality(modalities);
-    const bool use_depth = dm >= 0 && params.depth_samples > 0;
+    // depth as a validation modality (forest search only: the exhaustive mode is plain LINEMOD)
+    // per pyramid level: a candidate's position there is known to +-T / 2 pixels (to +-S / 2 at
+    // the coarsest level, below), so the scene's depth range is taken over squares of that
+    // radius (level 0 pixels)
+    std::vector<detail::DepthContext> depth_ctx;
+    const bool use_depth = dm >= 0 && params.depth_samples > 0 && params.use_forest;
+    if (use_depth)
+    {
+        depth_ctx.resize(pyramid_levels);
+        for (int l = 0; l <= L; ++l)
+        {
+            const int step = l == L ? std::min(locationStep(params, T_at_level[L]), T_at_level[L])
+                                    : T_at_level[l];
+            depth_ctx[l].set(sources[dm], (step / 2) << l);
+            depth_ctx[l].tolerance = params.depth_tolerance;
+            depth_ctx[l].scale_shift = l;
+        }
+    }
     const int64 t1 = getTickCount();
     const LevelMaps& top = levels[L];
     const int T = top.T;
@@ -1200,6 +1300,18 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
         const bool check_depth = dm >= 0 && params.depth_range_margin > 0
             && impl.z_max > 0;
         const Mat scene_depth = dm >= 0 ? sources[dm] : Mat();
+        // a coarse candidate's template lies within [tl, tl + S] (its location misses the
+        // anchor by up to S / 2): its depth samples are read at the middle
+        std::vector<detail::DepthTemplate> row_depth;
+        if (use_depth)
+        {
+            depth_ctx[L].shift = Point(S / 2, S / 2);
+            row_depth.resize(impl.rows.size());
+            for (size_t r = 0; r < impl.rows.size(); ++r)
+                row_depth[r] = depthTemplate(impl, impl.rows[r].class_id,
+                                             impl.rows[r].template_id);
+        }
+        const detail::DepthContext* dctx = use_depth ? &depth_ctx[L] : 0;
         const int z_lo = impl.z_min - params.depth_range_margin;
         const int z_hi = impl.z_max + params.depth_range_margin;
         parallel_for_(Range(0, H), [&](const Range& range) {
@@ -1309,6 +1421,9 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                         detail::ValidationCandidate v;
                         v.index = row;
                         v.tp = &tp;
+                        v.depth = use_depth && row_depth[row].samples ? &row_depth[row] : 0;
+                        v.zoffset = 0;
+                        v.zvalid = false;
                         // the true anchor lies within S/2 of the location; spread responses
                         // cover [p, p + T): start S/2 before
                         v.tl = Point(c * S - t.width / 2 - S / 2, r * S - t.height / 2 - S / 2);
@@ -1325,10 +1440,10 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                     if (params.breadth_first)
                         detail::validateBreadthFirst(top, L, M, vc, params.chunk_size,
                                                      params.alpha, params.max_survivors,
-                                                     survivors);
+                                                     survivors, dctx);
                     else
                     {
-                        detail::validateAll(top, L, vc);
+                        detail::validateAll(top, L, vc, dctx);
                         survivors.clear();
                         for (size_t k = 0; k < vc.size(); ++k)
                             survivors.push_back((int)k);
@@ -1361,27 +1476,10 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                 std::vector<Match> one(1, coarse[k]);
                 const TemplatePyramid& tp
                     = class_templates.find(coarse[k].class_id)->second[coarse[k].template_id];
-                refineMatches(levels, tp, M, threshold, one);
-                if (!one.empty() && use_depth)
-                {
-                    // depth as another validation modality, at the refined position
-                    const std::vector<Point3i>& ds
-                        = impl.depth.find(one[0].class_id)->second[one[0].template_id];
-                    if (!ds.empty())
-                    {
-                        int nf = 0;
-                        for (int m = 0; m < M; ++m)
-                            nf += (int)tp[m].features.size();
-                        const double a = detail::depthAgreement(sources[dm], ds,
-                                                                 Point(one[0].x, one[0].y),
-                                                                 params.depth_tolerance);
-                        const int ns = (int)ds.size();
-                        one[0].similarity = (float)((one[0].similarity * nf + 100.0 * a * ns)
-                                                    / (nf + ns));
-                        if (one[0].similarity < threshold)
-                            one.clear();
-                    }
-                }
+                const detail::DepthTemplate dt = use_depth
+                    ? depthTemplate(impl, coarse[k].class_id, coarse[k].template_id)
+                    : detail::DepthTemplate();
+                refineMatches(levels, tp, M, threshold, one, dt.samples ? &depth_ctx[0] : 0, &dt);
                 if (one.empty())
                     coarse[k].similarity = -1.f;
                 else
@@ -1670,9 +1768,9 @@ String Detector::readClass(const FileNode& fn, const String& class_id_override)
             *it >> m;
             if (m.empty())
                 continue;
-            if (m.type() != CV_32S || m.cols != 3)
+            if (m.type() != CV_32S || m.cols != 3 || m.rows > 256)
                 CV_Error(Error::StsParseError, "forestmod::Detector::readClass: corrupt depth "
-                                               "samples");
+                                               "samples (CV_32S, 3 columns, at most 256 rows)");
             for (int j = 0; j < m.rows; ++j)
                 depth[k].push_back(Point3i(m.at<int>(j, 0), m.at<int>(j, 1), m.at<int>(j, 2)));
         }

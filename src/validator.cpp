@@ -119,61 +119,172 @@ int similarityAll(const LevelMaps& level, const TemplatePyramid& tp, int level_i
     return sum;
 }
 
-double depthAgreement(const Mat& d, const std::vector<Point3i>& samples, Point tl, int tolerance,
-                      int* valid)
+void DepthContext::set(const Mat& scene_depth, int radius)
 {
-    CV_Assert(d.type() == CV_16UC1);
-    int diff[512];
-    int n = 0;
-    for (size_t i = 0; i < samples.size() && n < 512; ++i)
+    CV_Assert(scene_depth.type() == CV_16UC1 && radius >= 0);
+    depth = scene_depth;
+    pp = Point2f(0.5f * (scene_depth.cols - 1), 0.5f * (scene_depth.rows - 1));
+    const Mat k = getStructuringElement(MORPH_RECT, Size(2 * radius + 1, 2 * radius + 1));
+    dilate(scene_depth, zmax, k, Point(-1, -1), 1, BORDER_CONSTANT, Scalar(0));
+    Mat holes_far = scene_depth.clone();
+    holes_far.setTo(Scalar(65535), scene_depth == 0);
+    erode(holes_far, zmin, k, Point(-1, -1), 1, BORDER_CONSTANT, Scalar(65535));
+}
+
+Vec3f depthRotationRow(const DepthContext& dc, const DepthTemplate& t, Point origin)
+{
+    if (t.fx <= 0 || t.fy <= 0)
+        return Vec3f(0, 0, 1);
+    // a: ray through the template's object centre (template camera), b: through the candidate's
+    Vec3f a((t.centre.x - t.pp.x) / t.fx, (t.centre.y - t.pp.y) / t.fy, 1.f);
+    Vec3f b((origin.x + t.centre.x - dc.pp.x) / t.fx, (origin.y + t.centre.y - dc.pp.y) / t.fy,
+            1.f);
+    a *= 1.f / (float)norm(a);
+    b *= 1.f / (float)norm(b);
+    // R = I + [v]x + [v]x^2 / (1 + c), v = a x b, c = a . b (takes a onto b); its third row
+    const Vec3f v = a.cross(b);
+    const float c = a.dot(b), k = 1.f / (1.f + c), v2 = v.dot(v);
+    return Vec3f(-v[1] + k * v[2] * v[0], v[0] + k * v[2] * v[1], 1.f + k * (v[2] * v[2] - v2));
+}
+
+// the template's depth of sample i as seen along the candidate's ray
+static inline int predictedDepth(const DepthTemplate& t, const Vec3f& row, const Point3i& s)
+{
+    if (t.fx <= 0)
+        return s.z;
+    const float z = (float)s.z;
+    const float X = (s.x - t.pp.x) * z / t.fx, Y = (s.y - t.pp.y) * z / t.fy;
+    return cvRound(row[0] * X + row[1] * Y + row[2] * z);
+}
+
+bool depthOffset(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row, int n,
+                 Point origin, int& offset)
+{
+    const Mat& d = dc.depth;
+    const Point3i* samples = &(*t.samples)[0];
+    int diff[256];
+    int k = 0;
+    n = std::min(n, 256);
+    for (int i = 0; i < n; ++i)
     {
-        const int x = tl.x + samples[i].x, y = tl.y + samples[i].y;
+        const int x = origin.x + samples[i].x, y = origin.y + samples[i].y;
         if ((unsigned)x >= (unsigned)d.cols || (unsigned)y >= (unsigned)d.rows)
             continue;
         const int z = d.ptr<ushort>(y)[x];
         if (z > 0)
-            diff[n++] = z - samples[i].z;
+            diff[k++] = z - predictedDepth(t, row, samples[i]);
     }
-    if (valid)
-        *valid = n;
-    if (n == 0 || 2 * n < (int)samples.size())
-        return 0.0;
-    int sorted[512];
-    std::copy(diff, diff + n, sorted);
-    std::nth_element(sorted, sorted + n / 2, sorted + n);
-    const int ref = sorted[n / 2];
-    int agree = 0;
-    for (int i = 0; i < n; ++i)
-        agree += std::abs(diff[i] - ref) <= tolerance;
-    return double(agree) / samples.size();
+    if (k == 0 || 4 * k < n)
+        return false;
+    std::nth_element(diff, diff + k / 2, diff + k);
+    offset = diff[k / 2];
+    return true;
 }
 
-static int scoreAll(const LevelMaps& level, int level_index, ValidationCandidate& c)
+int depthSimilarityRange(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row,
+                         Point origin, int offset, int begin, int end)
 {
-    return similarityAll(level, *c.tp, level_index, c.tl, &c.total);
+    const Mat& d = dc.depth;
+    const Point3i* samples = &(*t.samples)[0];
+    int sum = 0;
+    for (int i = begin; i < end; ++i)
+    {
+        const int x = origin.x + samples[i].x, y = origin.y + samples[i].y;
+        if ((unsigned)x >= (unsigned)d.cols || (unsigned)y >= (unsigned)d.rows)
+            continue;
+        if (d.ptr<ushort>(y)[x] == 0)
+            continue; // no depth at the sample itself: like a feature without a value
+        const int z = predictedDepth(t, row, samples[i]) + offset;
+        const int lo = dc.zmin.ptr<ushort>(y)[x], hi = dc.zmax.ptr<ushort>(y)[x];
+        sum += depthResponse(z < lo ? lo - z : z > hi ? z - hi : 0, dc.tolerance);
+    }
+    return sum;
 }
 
-void validateAll(const LevelMaps& level, int level_index, std::vector<ValidationCandidate>& cands)
+int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin)
+{
+    const int n = t.samples ? std::min(256, static_cast<int>(t.samples->size())) : 0;
+    int offset = 0;
+    if (n == 0)
+        return 0;
+    const Vec3f row = depthRotationRow(dc, t, origin);
+    if (!depthOffset(dc, t, row, n, origin, offset))
+        return 0;
+    return depthSimilarityRange(dc, t, row, origin, offset, 0, n);
+}
+
+// level-0 position of a candidate's template top-left
+static inline Point depthOrigin(const DepthContext& dc, Point tl)
+{
+    return Point((tl.x + dc.shift.x) << dc.scale_shift, (tl.y + dc.shift.y) << dc.scale_shift);
+}
+
+static inline int depthCount(const DepthContext* dc, const ValidationCandidate& c)
+{
+    return dc && c.depth && c.depth->samples
+        ? std::min(256, static_cast<int>(c.depth->samples->size())) : 0;
+}
+
+// the candidate's rotation row and offset, once
+static void depthPrepare(const DepthContext& dc, ValidationCandidate& c, int ns)
+{
+    const Point o = depthOrigin(dc, c.tl);
+    c.zrow = depthRotationRow(dc, *c.depth, o);
+    c.zvalid = depthOffset(dc, *c.depth, c.zrow, ns, o, c.zoffset);
+}
+
+static int scoreAll(const LevelMaps& level, int level_index, ValidationCandidate& c,
+                    const DepthContext* dc)
+{
+    int nf = 0;
+    int raw = similarityAll(level, *c.tp, level_index, c.tl, &nf);
+    const int ns = depthCount(dc, c);
+    if (ns > 0)
+    {
+        if (!c.zvalid)
+            depthPrepare(*dc, c, ns);
+        if (c.zvalid)
+            raw += depthSimilarityRange(*dc, *c.depth, c.zrow, depthOrigin(*dc, c.tl), c.zoffset,
+                                        0, ns);
+    }
+    c.total = nf + ns;
+    return raw;
+}
+
+void validateAll(const LevelMaps& level, int level_index, std::vector<ValidationCandidate>& cands,
+                 const DepthContext* depth)
 {
     for (size_t i = 0; i < cands.size(); ++i)
     {
-        cands[i].raw = scoreAll(level, level_index, cands[i]);
+        cands[i].zvalid = false;
+        cands[i].raw = scoreAll(level, level_index, cands[i], depth);
         cands[i].scored = cands[i].total;
     }
 }
 
 void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modalities,
                           std::vector<ValidationCandidate>& cands, int chunk_size, float alpha,
-                          int max_survivors, std::vector<int>& survivors)
+                          int max_survivors, std::vector<int>& survivors,
+                          const DepthContext* depth)
 {
     CV_Assert(chunk_size > 0 && max_survivors > 0);
     survivors.clear();
     std::vector<int> alive(cands.size());
     for (size_t i = 0; i < cands.size(); ++i)
     {
+        ValidationCandidate& c = cands[i];
         alive[i] = static_cast<int>(i);
-        cands[i].raw = 0;
-        cands[i].scored = 0;
+        c.raw = 0;
+        c.scored = 0;
+        c.zvalid = false;
+        c.total = 0;
+        for (int m = 0; m < num_modalities; ++m)
+            c.total += static_cast<int>((*c.tp)[level_index * num_modalities + m].features.size());
+        // the depth offset needs all samples: once per candidate, before its first chunk
+        const int ns = depthCount(depth, c);
+        c.total += ns;
+        if (ns > 0)
+            depthPrepare(*depth, c, ns);
     }
     std::vector<float> scores;
     // chunk k of a candidate covers the fraction [k/K, (k+1)/K) of every modality's features, so
@@ -198,6 +309,16 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
                     c.raw += similarityRange(level, m, templ, c.tl, b, e);
                     c.scored += e - b;
                 }
+                const int ns = depthCount(depth, c);
+                if (ns > 0)
+                {
+                    const int b = static_cast<int>((int64)ns * k / K);
+                    const int e = static_cast<int>((int64)ns * (k + 1) / K);
+                    if (c.zvalid)
+                        c.raw += depthSimilarityRange(*depth, *c.depth, c.zrow,
+                                                      depthOrigin(*depth, c.tl), c.zoffset, b, e);
+                    c.scored += e - b;
+                }
 
             }
             scores.push_back(c.scored ? c.raw / (4.f * c.scored) : 0.f);
@@ -218,7 +339,7 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
     {
         ValidationCandidate& c = cands[alive[a]];
         if (c.scored < c.total)
-            c.raw = scoreAll(level, level_index, c);
+            c.raw = scoreAll(level, level_index, c, depth);
         c.scored = c.total;
         survivors.push_back(alive[a]);
     }

@@ -48,35 +48,100 @@ number of features). num_features, when given, receives the feature count. */
 int similarityAll(const LevelMaps& level, const TemplatePyramid& tp, int level_index,
                   Point tl, int* num_features = 0);
 
+/** Depth as a validation modality (paper: "we add depth value as another modality in the
+validation stage to measure shape similarity"). A template keeps depth samples (x, y relative to
+its top-left at level 0, z mm). With the template's top-left at `origin` (level 0) the offset
+(scene minus template) is the median over the samples where the scene has depth; a sample then
+scores like a LINEMOD feature, 0..4 (depthResponse), by how far z + offset lies outside the
+range [zmin, zmax] of the scene depth around it: the *relative* depths are compared (shape, not
+distance), and the range (the depth counterpart of LINEMOD's spreading) tolerates the position
+error of a candidate. Samples without scene depth (holes, outside the image) score 0, like
+features without a quantized value. */
+struct DepthContext
+{
+    DepthContext() : tolerance(10), scale_shift(0) {}
+    Mat depth;      //!< scene depth, level 0, CV_16UC1 mm (0: none)
+    Mat zmin, zmax; //!< its minimum / maximum over a square around each pixel (holes left out:
+                    //!< zmin 65535 and zmax 0 where the square has no depth)
+    int tolerance;  //!< mm: a residual within it scores 4
+    int scale_shift; //!< a level's pixel -> level 0: << scale_shift
+    Point shift;    //!< added to a candidate's top-left (level pixels): the template's likely position
+    Point2f pp;     //!< the scene's principal point, taken as the image centre
+
+    /** depth, zmin, zmax of a scene depth with a square of (2 radius + 1)^2 pixels. */
+    void set(const Mat& scene_depth, int radius);
+};
+
+/** A template's depth samples and the geometry that predicts them elsewhere in the image: an
+object seen at another image position is seen along another ray, and its depths (z, not the
+distance along the ray) tilt accordingly (up to +-15 mm over an LM-O object 20 degrees off the
+axis). The template's camera points P_i = z_i K_t^-1 (u_i, v_i, 1) are turned by the rotation
+that takes the ray through the template's object centre onto the ray through the candidate's
+(the scene's focal length taken as the template's, its principal point as the image centre);
+the predicted depth is the z of the turned point. */
+struct DepthTemplate
+{
+    DepthTemplate() : samples(0), fx(0), fy(0) {}
+    const std::vector<Point3i>* samples; //!< x, y relative to the top-left (level 0), z mm
+    Point2f pp;     //!< the template's principal point relative to its top-left (level 0)
+    Point2f centre; //!< its object centre (projection of t) relative to its top-left
+    float fx, fy;   //!< its focal lengths; 0: no pose, depths compared as they are
+};
+
+/** Third row of that rotation for the template's top-left at `origin` (level 0); (0, 0, 1)
+without a pose. */
+Vec3f depthRotationRow(const DepthContext& dc, const DepthTemplate& t, Point origin);
+
+/** 0..4 by the residual r (mm): 4 when r <= tol, 2 when r <= 2 tol, 1 when r <= 3 tol, else 0. */
+static inline int depthResponse(int r, int tol)
+{
+    r = r < 0 ? -r : r;
+    return r <= tol ? 4 : r <= 2 * tol ? 2 : r <= 3 * tol ? 1 : 0;
+}
+
+/** Median offset (scene minus predicted template depth, mm) of the first n <= 256 samples at
+`origin` (level 0), with `row` from depthRotationRow(). Returns false (no offset: every sample then
+scores 0) when fewer than a quarter of them have scene depth. */
+bool depthOffset(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row, int n,
+                 Point origin, int& offset);
+
+/** Sum of depthResponse() over the samples [begin, end) at `origin` with the given offset. */
+int depthSimilarityRange(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row,
+                         Point origin, int offset, int begin, int end);
+
+/** Rotation row, offset and all samples: 0..4 per sample. */
+int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin);
+
 /** A candidate of validation: a template and where its top-left is at the coarsest level. */
 struct ValidationCandidate
 {
     int index;     //!< caller's index
     const TemplatePyramid* tp;
+    const DepthTemplate* depth; //!< the template's depth samples, or null
     Point tl;
     int raw;       //!< accumulated raw score
-    int scored;    //!< features scored so far
-    int total;     //!< features of the template (all modalities)
+    int scored;    //!< features (and depth samples) scored so far
+    int total;     //!< features of the template (all modalities) + depth samples
+    int zoffset;   //!< depth offset (scene minus template, mm)
+    bool zvalid;   //!< zoffset is known
+    Vec3f zrow;    //!< depthRotationRow() at the candidate
 };
 
-/** Depth as a validation modality (paper: "we add depth value as another modality in the
-validation stage"), applied to a refined match: the share of the template's depth samples
-(x, y relative to its top-left, z mm) whose scene depth, minus the template's, lies within
-`tolerance` of the median offset. `valid` receives the number of samples with scene depth; the
-share is 0 when fewer than half have it. */
-double depthAgreement(const Mat& scene_depth, const std::vector<Point3i>& samples, Point tl,
-                      int tolerance, int* valid = 0);
-
-/** Scores every candidate on all its features (no pruning). */
-void validateAll(const LevelMaps& level, int level_index, std::vector<ValidationCandidate>& cands);
+/** Scores every candidate on all its features (no pruning); depth samples join when `depth` is
+given and a candidate has samples. */
+void validateAll(const LevelMaps& level, int level_index, std::vector<ValidationCandidate>& cands,
+                 const DepthContext* depth = 0);
 
 /** Breadth-first preemptive validation (paper): features in chunks of chunk_size; after each
 chunk keep the candidates whose normalised score raw / (4 scored) is >= the median of the
-survivors and > alpha; stop when max_survivors (paper: 1) or fewer are left (or features run out). The survivors are
-then scored on all their features. Returns the indices (into `cands`) of the survivors. */
+survivors and > alpha; stop when max_survivors (paper: 1) or fewer are left (or features run
+out). Every chunk takes the same share of each modality's features and, when `depth` is given,
+of the candidate's depth samples. The survivors are then scored on all their features. Returns
+the indices (into `cands`) of the survivors. */
 void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modalities,
                           std::vector<ValidationCandidate>& cands, int chunk_size, float alpha,
-                          int max_survivors, std::vector<int>& survivors);
+                          int max_survivors, std::vector<int>& survivors,
+                          const DepthContext* depth = 0);
 
 } // namespace detail
 } // namespace forestmod

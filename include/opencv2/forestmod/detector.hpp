@@ -45,8 +45,10 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_PROP_RW float alpha;
     /** Breadth-first validation stops when this many candidates (or fewer) are left, and this
     many best candidates of a location go on to pyramid refinement. Paper: 1 ("until there is
-    only one or no candidate left"); 2 did not change the hits of the rendered-scene bench
-    (doc/detector.md). */
+    only one or no candidate left"); without depth 2 gives the same hits (doc/detector.md). With
+    the depth modality (depth_samples) use 2: the coarse level then sometimes ranks the right view
+    a hair below a neighbouring one at every location (1 of 90 hits lost on the rendered scenes
+    with 1); the finer level decides when two go on. */
     CV_PROP_RW int max_survivors;
     /** Grid points per side of the descriptor window (paper: the template's sample locations r).
     The window covers every template at the coarsest pyramid level. Default 12 (144 points per
@@ -62,17 +64,38 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     output is, as in cv::linemod, every match above the threshold). Default 0.5. */
     CV_PROP_RW float nms_iou;
     /** Depth as a validation modality (paper: "we add depth value as another modality in the
-    validation stage to measure shape similarity"): when the detector has a DepthNormal modality,
-    every template keeps up to this many depth samples spread over its object; after a match is
-    refined, a sample agrees when the scene depth there, minus the template's, lies within
-    depth_tolerance of the median offset, and the samples join the similarity like features
-    (agreeing: full score). 0: off. Default 0, measured (doc/detector.md, "Search"): on the
-    rendered LM-O scenes, 32 samples with a 10 or 20 mm tolerance turned 2 of 90 top matches
-    (near-ties between views) into misses and corrected none. 32 is a reasonable value to try on
-    real RGB-D data. Not used in the exhaustive mode (plain LINEMOD). */
+    validation stage to measure shape similarity"), with a DepthNormal modality: addTemplate
+    keeps up to this many depth samples per template (spread over the object eroded by 2 px).
+    In breadth-first validation (every chunk takes its share of them) and at every pyramid
+    refinement level they are scored with the features, 0..4 each like LINEMOD's response, so
+    that with as many samples as features per modality depth weighs like one more modality.
+    Relative depths, the shape and not the distance: the template's depths are first predicted
+    for the candidate's image position (turned onto its viewing ray with the template's pose and
+    K, the scene's principal point taken as the image centre), the offset is the median of
+    (scene - predicted) over the samples, and a sample scores 4 when predicted + offset lies
+    within depth_tolerance of the scene's depth range around it (+-T / 2 pixels of the level:
+    the depth counterpart of LINEMOD's spreading), 2 within 2 and 1 within 3 tolerances, else 0.
+    A sample without scene depth (hole, outside the image) scores 0, as a feature without a
+    value does; with fewer than a quarter of them with depth, all score 0. The samples also give
+    the initial pose (estimatePoses) and the depth range (depth_range_margin). Set to 0 after
+    templates were added, the term is off and the samples stay. Not used in the exhaustive mode
+    (plain LINEMOD). At most 256.
+    Default 0 (off), measured (doc/detector.md, "Depth"). With 63 (as many as LINEMOD's
+    features per modality), depth_tolerance 5 and max_survivors 2: a flat picture of the object
+    on the supporting plane loses a median 8.9 points and is detected at the threshold 80 in 2 of
+    8 scenes instead of 8, the object keeps its score (within 1 point); the rendered scenes of
+    forestmod_detector_bench keep 90 of 90 hits and their false matches at the threshold 80 fall
+    from 6.6 / 4.8 / 1.1 to 2.5 / 0 / 0 per scene. But on forestmod_eval --synthetic=5 the 1-tree
+    ADD falls from 92.5 to 82.5 % (5 trees: 95.0 -> 97.5 %), and for objects the forest rejects
+    little of (can, driller, eggbox: 2-5 % rejected) validation takes 5-15x longer (every
+    candidate pays n lookups and a median before its first chunk). Use 63 where pictures,
+    screens or flat clutter resembling the objects are expected. */
     CV_PROP_RW int depth_samples;
-    /** Tolerance (mm) of the depth agreement. Default 10: noise of a Kinect-class sensor at 1 m
-    (a few mm) plus LINEMOD's position step at level 0, well under the relief of LM objects. */
+    /** Tolerance (mm) of the depth samples' score. Default 5: about 3 sigma of Kinect-class
+    noise at 1 m (1.5 mm, SyntheticSceneParams::depth_noise); a candidate's position error is
+    absorbed by the depth range, not by the tolerance. With 10 the pictures of shallow views
+    pass (the ape's relief: half its pixels within 5-8 mm of its median depth) and near-ties
+    between views are decided less well (doc/detector.md, "Depth"). */
     CV_PROP_RW int depth_tolerance;
     /** Flat-window rejection (paper: the rejectors remove "textureless background"): a location
     leaves before the forest when its window holds fewer labelled values (plain quantized, all
