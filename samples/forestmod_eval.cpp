@@ -68,6 +68,8 @@ static const char* keys
       "default; > 0: depth as a validation modality, templates cached separately) }"
       "{depth_tolerance | -1       | experiment: DetectorParams::depth_tolerance (mm; -1: default) }"
       "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
+      "{leaf_samples    | -1       | experiment: DetectorParams::auto_depth_leaf_samples (-1: "
+      "default; 0: the paper's depth 8 / 9) }"
       "{depth_validation | 1       | experiment: 0 turns the depth validation term off after the "
       "templates (with their depth samples, used for the initial poses) are made }"
       "{force           |          | overwrite the --json file and heat map PNGs }";
@@ -250,6 +252,7 @@ struct TemplateSetup
 // --depth_samples / --depth_tolerance (-1: the library's defaults)
 static int g_depth_samples = -1, g_depth_tolerance = -1;
 static int g_max_survivors = -1;
+static float g_leaf_samples = -1.f;
 static bool g_depth_validation = true;
 
 static fm::DetectorParams experimentParams(fm::DetectorParams p)
@@ -260,6 +263,8 @@ static fm::DetectorParams experimentParams(fm::DetectorParams p)
         p.depth_tolerance = g_depth_tolerance;
     if (g_max_survivors > 0)
         p.max_survivors = g_max_survivors;
+    if (g_leaf_samples >= 0.f)
+        p.auto_depth_leaf_samples = g_leaf_samples;
     return p;
 }
 
@@ -373,7 +378,7 @@ static cv::Ptr<fm::Detector> objectTemplates(ObjectInfo& obj, const TemplateSetu
             det->load(obj.cache_file);
             // the cache holds templates; the parameters are this build's defaults (and the
             // command's flags), not those saved with the cached model
-            fm::DetectorParams p = experimentParams(det->getParams());
+            fm::DetectorParams p = experimentParams(fm::DetectorParams());
             if (!g_depth_validation)
                 p.depth_samples = 0; // the samples loaded stay
             det->setParams(p);
@@ -850,6 +855,7 @@ int main(int argc, char** argv)
     g_depth_tolerance = parser.get<int>("depth_tolerance");
     g_depth_validation = parser.get<int>("depth_validation") != 0;
     g_max_survivors = parser.get<int>("max_survivors");
+    g_leaf_samples = parser.get<float>("leaf_samples");
     const bool force = parser.has("force");
     const bool multi = !parser.has("no_multi");
     fm::ViewSampler::Params sp;

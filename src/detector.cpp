@@ -33,7 +33,7 @@ DetectorParams::DetectorParams()
     : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
       grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(5),
       min_window_labels(0.5f), depth_range_margin(0), dominant_window(3),
-      group_size_ratio(1.3f), max_group_classes(0), auto_depth_leaf_samples(2.f),
+      group_size_ratio(1.3f), max_group_classes(0), auto_depth_leaf_samples(8.f),
       grey_hue_label(false)
 {
     forest.max_depth = 0; // chosen at train() per search group (auto_depth_leaf_samples)
