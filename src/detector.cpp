@@ -631,7 +631,7 @@ int Detector::addSyntheticTemplate(const std::vector<Template>& templates, const
 // value at every grid point and modality; foreground where the grid point is on its mask.
 static void templateDescriptor(const TemplatePyramid& tp, const DensePatch& patch, int M, int L,
                                const std::vector<Point>& grid, int grid_step, Point shift,
-                               uchar* desc, uchar* fg)
+                               const std::vector<int>& grey_planes, uchar* desc, uchar* fg)
 {
     const Template& top = tp[L * M];
     const Point anchor = Point(top.width / 2, top.height / 2) + shift;
@@ -660,6 +660,9 @@ static void templateDescriptor(const TemplatePyramid& tp, const DensePatch& patc
     for (int m = 0; m < M; ++m)
     {
         const Template& t = tp[L * M + m];
+        // a grey group's hue plane: the 8 hue bins merged into 7, as greyHueLabels() does for
+        // the scene and the dense patches
+        const bool grey = m < (int)grey_planes.size() && grey_planes[m] != 0;
         for (int g = 0; g < G; ++g)
         {
             const Point p = anchor + grid[g];
@@ -674,7 +677,8 @@ static void templateDescriptor(const TemplatePyramid& tp, const DensePatch& patc
                 if (d2 <= r2 && d2 < best)
                 {
                     best = d2;
-                    desc[j] = static_cast<uchar>(1 << t.features[k].label);
+                    const int label = t.features[k].label;
+                    desc[j] = static_cast<uchar>(1 << (grey ? label * 7 / 8 : label));
                     fg[j] = 1;
                 }
             }
@@ -846,7 +850,8 @@ static void prepareTraining(Detector::Impl& impl,
             for (int k = 0; k < R; ++k)
             {
                 templateDescriptor(tp, patch, M, L, group.grid, std::max(1, cvRound(step)),
-                                   shifts[k], desc.ptr(r * R + k), fg.ptr(r * R + k));
+                                   shifts[k], group.grey ? grey_hue : std::vector<int>(),
+                                   desc.ptr(r * R + k), fg.ptr(r * R + k));
                 ids.at<int>(r * R + k) = r;
             }
         }
@@ -1010,12 +1015,13 @@ static detail::DepthTemplate depthTemplate(const Detector::Impl& impl, const Str
     if (pit == impl.poses.end() || template_id >= (int)pit->second.size())
         return t;
     const TemplatePose& p = pit->second[template_id];
-    if (!p.valid || p.K(0, 0) <= 0 || p.K(1, 1) <= 0 || p.t[2] <= 0)
+    const Vec3d c = p.K * p.t;
+    // c[2] > 0 also refuses a K whose last row is not (0, 0, 1) (a corrupt model file)
+    if (!p.valid || p.K(0, 0) <= 0 || p.K(1, 1) <= 0 || p.t[2] <= 0 || !(c[2] > 0))
         return t;
     t.fx = (float)p.K(0, 0);
     t.fy = (float)p.K(1, 1);
     t.pp = Point2f((float)(p.K(0, 2) - p.box.x), (float)(p.K(1, 2) - p.box.y));
-    const Vec3d c = p.K * p.t;
     t.centre = Point2f((float)(c[0] / c[2] - p.box.x), (float)(c[1] / c[2] - p.box.y));
     return t;
 }

@@ -216,7 +216,9 @@ int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin
 // level-0 position of a candidate's template top-left
 static inline Point depthOrigin(const DepthContext& dc, Point tl)
 {
-    return Point((tl.x + dc.shift.x) << dc.scale_shift, (tl.y + dc.shift.y) << dc.scale_shift);
+    // tl may be negative (windows over the left / top border): multiply, do not shift
+    return Point((tl.x + dc.shift.x) * (1 << dc.scale_shift),
+                 (tl.y + dc.shift.y) * (1 << dc.scale_shift));
 }
 
 static inline int depthCount(const DepthContext* dc, const ValidationCandidate& c)
