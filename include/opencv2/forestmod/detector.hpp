@@ -235,7 +235,7 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
     detection its template_id, pose label and pose (position, box and score stay the
     detection's, so the ranking is the matcher's). Template matching often ranks a
     wrong view of the object first (front / back); on the 50 real LM-O frames this took the ape's
-    poses under 5 px from 6 to 11 of 26 detections (doc/pose.md). 1 = the best match's own
+    poses under 5 px from 4 to 10 of 20 detections (doc/pose.md). 1 = the best match's own
     template only. Default 8. */
     CV_PROP_RW int rgb_hypotheses;
 
