@@ -406,22 +406,27 @@ TEST(Forestmod_Detector, several_objects_search_groups_reject_background)
     }
     // hits: the best match of the scene's object's class (other classes may fire on the
     // clutter objects, which are the other meshes)
-    std::vector<int> hits(n_obj, 0);
-    double rejected = 0;
-    for (size_t f = 0; f < frames.size(); ++f)
-    {
-        const int o = object_of[f];
-        std::vector<PoseMatch> m;
-        DetectionStats st;
-        det.match(frames[f], 80.f, m, std::vector<String>(), std::vector<Mat>(), &st);
-        rejected += st.rejectedFraction();
-        std::vector<PoseMatch> mine;
-        for (size_t i = 0; i < m.size(); ++i)
-            if (m[i].class_id == cv::format("obj%d", ids[o]))
-                mine.push_back(m[i]);
-        hits[o] += evaluate(mine, info[o], truth[f], K);
-    }
-    rejected /= (double)frames.size();
+    // runs every scene; hits per object, returns the mean share of locations rejected
+    const auto runScenes = [&](std::vector<int>& hits_per_object) -> double {
+        hits_per_object.assign(n_obj, 0);
+        double share = 0;
+        for (size_t f = 0; f < frames.size(); ++f)
+        {
+            const int o = object_of[f];
+            std::vector<PoseMatch> m;
+            DetectionStats st;
+            det.match(frames[f], 80.f, m, std::vector<String>(), std::vector<Mat>(), &st);
+            share += st.rejectedFraction();
+            std::vector<PoseMatch> mine;
+            for (size_t i = 0; i < m.size(); ++i)
+                if (m[i].class_id == cv::format("obj%d", ids[o]))
+                    mine.push_back(m[i]);
+            hits_per_object[o] += evaluate(mine, info[o], truth[f], K);
+        }
+        return share / (double)frames.size();
+    };
+    std::vector<int> hits;
+    const double rejected = runScenes(hits);
 
     // the same templates behind one window and the paper's depth (the behaviour before groups)
     DetectorParams one = p;
@@ -430,22 +435,8 @@ TEST(Forestmod_Detector, several_objects_search_groups_reject_background)
     det.setParams(one);
     det.train();
     ASSERT_EQ(1, det.numSearchGroups());
-    double rejected_one = 0;
-    std::vector<int> hits_one(n_obj, 0);
-    for (size_t f = 0; f < frames.size(); ++f)
-    {
-        const int o = object_of[f];
-        std::vector<PoseMatch> m;
-        DetectionStats st;
-        det.match(frames[f], 80.f, m, std::vector<String>(), std::vector<Mat>(), &st);
-        rejected_one += st.rejectedFraction();
-        std::vector<PoseMatch> mine;
-        for (size_t i = 0; i < m.size(); ++i)
-            if (m[i].class_id == cv::format("obj%d", ids[o]))
-                mine.push_back(m[i]);
-        hits_one[o] += evaluate(mine, info[o], truth[f], K);
-    }
-    rejected_one /= (double)frames.size();
+    std::vector<int> hits_one;
+    const double rejected_one = runScenes(hits_one);
 
     std::cout << "[ INFO    ] " << n_obj << " objects, " << det.numTemplates()
               << " templates; hits per object:";
