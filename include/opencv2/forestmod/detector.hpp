@@ -341,7 +341,8 @@ public:
     matches of each class are refined with ICP (refinePose) and depth-checked; those below
     params.min_depth_agreement are dropped. Matches keep their order.
     Without depth, given the colour image and a mesh, the best params.max_per_class matches per
-    class are refined by rendering (PoseParams::rgb_refine).
+    class are refined by edge alignment (refinePoseEdges(), PoseParams::rgb_refine; edge_fit is
+    set).
     @param depth CV_16UC1 scene depth in mm, or empty for RGB only.
     @param K     intrinsics of the scene images.
     @param color the scene's BGR image (for the refinement without depth), optional.
@@ -350,7 +351,9 @@ public:
                        const PoseParams& params = PoseParams(), InputArray color = noArray()) const;
 
     /** match() + estimatePoses() in one call: sources as for match(); the depth is taken from the
-    DepthNormal source when the detector has one. */
+    DepthNormal source when the detector has one. Without depth, each of the best
+    params.max_per_class detections per class takes its pose from the best edge fit among the
+    matches that non-maximum suppression merges into it (PoseParams::rgb_hypotheses). */
     void detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
                 std::vector<PoseMatch>& matches,
                 const std::vector<String>& class_ids = std::vector<String>(),
