@@ -230,12 +230,10 @@ TEST(Forestmod_Detector, addTemplates_from_mesh_with_poses)
 
 namespace opencv_test { namespace {
 
-// The two rejections before the forest: out of the templates' depth range, and flat windows.
-TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
+/** The 6 views of the level-0 hemisphere above 20 degrees of elevation, 800 mm, no in-plane
+rotation: a small template set for the rejection and depth tests. */
+static ViewSampler::Params sixApeViews()
 {
-    const Mesh ape = Mesh::load(meshPath(1));
-    const Matx33d K = lmoK();
-    const Size size(640, 480);
     ViewSampler::Params sp;
     sp.level = 0;
     sp.min_elevation = 20;
@@ -243,6 +241,16 @@ TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
     sp.inplane_min = 0;
     sp.inplane_max = 0;
     sp.inplane_step = 10;
+    return sp;
+}
+
+// The two rejections before the forest: out of the templates' depth range, and flat windows.
+TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
+{
+    const Mesh ape = Mesh::load(meshPath(1));
+    const Matx33d K = lmoK();
+    const Size size(640, 480);
+    const ViewSampler::Params sp = sixApeViews();
     const std::vector<Ptr<linemod::Modality> > mods = getDefaultForestLINEMOD()->getModalities();
     const std::vector<int> T = rgbdPyramid();
     DetectorParams p;
@@ -465,13 +473,7 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
     const Mesh ape = Mesh::load(meshPath(1));
     const Matx33d K = lmoK();
     const Size size(640, 480);
-    ViewSampler::Params sp;
-    sp.level = 0;
-    sp.min_elevation = 20;
-    sp.radii = std::vector<double>(1, 800.0);
-    sp.inplane_min = 0;
-    sp.inplane_max = 0;
-    sp.inplane_step = 10;
+    const ViewSampler::Params sp = sixApeViews();
     const std::vector<Ptr<linemod::Modality> > mods = getDefaultForestLINEMOD()->getModalities();
     DetectorParams on;
     // off by default (doc/detector.md, "Depth": it costs time and, on forestmod_eval's
