@@ -65,9 +65,10 @@ static const char* keys
       "{train_threads   | 2        | OpenCV threads while training the forests (not timed) }"
       "{seed            | 1        | random seed of --synthetic }"
       "{depth_samples   | -1       | experiment: DetectorParams::depth_samples (-1: library "
-      "default; > 0: depth as a validation modality, templates cached separately) }"
+      "default; 0: no depth samples, templates cached separately) }"
       "{depth_tolerance | -1       | experiment: DetectorParams::depth_tolerance (mm; -1: default) }"
       "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
+      "{depth_coarse    | -1       | experiment: DetectorParams::depth_coarse (0, 1, 2; -1: default) }"
       "{leaf_samples    | -1       | experiment: DetectorParams::auto_depth_leaf_samples (-1: "
       "default; 0: the paper's depth 8 / 9) }"
       "{depth_validation | 1       | experiment: 0 turns the depth validation term off after the "
@@ -193,6 +194,18 @@ struct ObjectInfo
     int templates;
 };
 
+/** One frame's outcome for one object (the JSON's "per_frame" list). */
+struct FrameRecord
+{
+    int scene_id, im_id;
+    double t_ms;
+    int template_id; //!< the hypothesis whose pose is scored; -1: none
+    float similarity;
+    cv::Point pos;
+    double iou, proj, add; //!< NaN where not measured
+    std::vector<cv::linemod::Match> top; //!< the class's best matches (up to 5), as matched
+};
+
 /** Accumulated results of one detector on one object (or on the multi-object model). */
 struct Result
 {
@@ -203,6 +216,7 @@ struct Result
     int64 locations, rejected;
     int n2d, ok2d, okproj, nadd, okadd;
     bool with_depth;
+    std::vector<FrameRecord> per_frame;
 };
 
 static double ratio(int a, int b)
@@ -251,7 +265,7 @@ struct TemplateSetup
 
 // --depth_samples / --depth_tolerance (-1: the library's defaults)
 static int g_depth_samples = -1, g_depth_tolerance = -1;
-static int g_max_survivors = -1;
+static int g_max_survivors = -1, g_depth_coarse = -1;
 static float g_leaf_samples = -1.f;
 static bool g_depth_validation = true;
 
@@ -263,6 +277,8 @@ static fm::DetectorParams experimentParams(fm::DetectorParams p)
         p.depth_tolerance = g_depth_tolerance;
     if (g_max_survivors > 0)
         p.max_survivors = g_max_survivors;
+    if (g_depth_coarse >= 0)
+        p.depth_coarse = g_depth_coarse;
     if (g_leaf_samples >= 0.f)
         p.auto_depth_leaf_samples = g_leaf_samples;
     return p;
@@ -325,7 +341,9 @@ static std::string cacheKey(const ObjectInfo& obj, const TemplateSetup& setup, i
     fs << "}";
     fs << "mesh_size" << (double)mesh_size;
     const int ds = experimentParams(fm::DetectorParams()).depth_samples;
-    if (ds > 0) // templates with depth samples (their selection as of this version)
+    const bool has_depth = std::find(setup.modalities.begin(), setup.modalities.end(),
+                                     std::string("DepthNormal")) != setup.modalities.end();
+    if (ds > 0 && has_depth) // templates with depth samples (their selection as of this version)
         fs << "depth_samples" << ds << "depth_sampler" << 2;
     const std::string text = fs.releaseAndGetString();
     const uint64_t h = fnv1a(text.data(), text.size(), mesh_hash);
@@ -505,13 +523,31 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     ++res.n2d;
     if (use_depth)
         ++res.nadd;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    FrameRecord rec;
+    rec.scene_id = f.scene_id;
+    rec.im_id = f.im_id;
+    rec.t_ms = res.total.empty() ? nan : res.total.back();
+    rec.template_id = -1;
+    rec.similarity = 0.f;
+    rec.iou = rec.proj = rec.add = nan;
+    for (size_t i = 0; i < matches.size() && rec.top.size() < 5; ++i)
+        if (matches[i].class_id == obj.class_id)
+            rec.top.push_back(matches[i]);
     if (!best)
+    {
+        res.per_frame.push_back(rec);
         return;
+    }
+    rec.template_id = best->template_id;
+    rec.similarity = best->similarity;
+    rec.pos = cv::Point(best->x, best->y);
     cv::Rect2d gt_box = gt->bbox_obj;
     if (gt_box.area() <= 0)
         gt_box = projectedBox(obj.pts, f.K, gt->R, gt->t);
     const cv::Rect2d est_box = projectedBox(obj.pts, f.K, best->R, best->t);
-    if (fm::boxIoU(est_box, gt_box) >= 0.5)
+    rec.iou = fm::boxIoU(est_box, gt_box);
+    if (rec.iou >= 0.5)
         ++res.ok2d;
     // 2D projection error, the smallest over the object's discrete symmetries
     double proj = fm::projectionError2D(obj.pts, f.K, best->R, best->t, gt->R, gt->t);
@@ -524,15 +560,18 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
         proj = std::min(proj, fm::projectionError2D(obj.pts, f.K, best->R, best->t, gt->R * SR,
                                                     gt->R * St + gt->t));
     }
+    rec.proj = proj;
     if (proj < 5.0)
         ++res.okproj;
     if (use_depth)
     {
         const double err = obj.symmetric ? fm::adiError(obj.pts, best->R, best->t, gt->R, gt->t)
                                          : fm::addError(obj.pts, best->R, best->t, gt->R, gt->t);
+        rec.add = err / obj.diameter;
         if (fm::isCorrect(err, obj.diameter, 0.1))
             ++res.okadd;
     }
+    res.per_frame.push_back(rec);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -799,15 +838,43 @@ static std::string meanRow(const std::string& det, const std::vector<Result>& rs
                       pct(addRate(p)).c_str(), pct(rej).c_str());
 }
 
+// the frames one by one: time, the scored hypothesis, its box IoU, projection error and ADD/ADI
+// (in diameters), null where not measured; "top": the class's best matches as the detector
+// returned them, [template_id, x, y, similarity]
+static std::string jsonFrames(const Result& r)
+{
+    std::string s = "[";
+    for (size_t i = 0; i < r.per_frame.size(); ++i)
+    {
+        const FrameRecord& f = r.per_frame[i];
+        s += cv::format("%s\n       {\"scene_id\": %d, \"im_id\": %d, \"t_ms\": %s, "
+                        "\"template_id\": %d, \"similarity\": %s, \"x\": %d, \"y\": %d, "
+                        "\"iou\": %s, \"proj2d_px\": %s, \"add_d\": %s}",
+                        i ? "," : "", f.scene_id, f.im_id, jnum(f.t_ms).c_str(), f.template_id,
+                        jnum(f.similarity).c_str(), f.pos.x, f.pos.y, jnum(f.iou).c_str(),
+                        jnum(f.proj).c_str(), jnum(f.add).c_str());
+        s.resize(s.size() - 1);
+        s += ", \"top\": [";
+        for (size_t k = 0; k < f.top.size(); ++k)
+            s += cv::format("%s[%d, %d, %d, %s]", k ? ", " : "", f.top[k].template_id,
+                            f.top[k].x, f.top[k].y, jnum(f.top[k].similarity).c_str());
+        s += "]}";
+    }
+    return s + "]";
+}
+
 static std::string jsonResult(const Result& r)
 {
     return cv::format("{\"t_total_ms\": %s, \"t_tree_ms\": %s, \"t_valid_ms\": %s, "
                       "\"recall_2d\": %s, \"proj2d_5px\": %s, \"add_01d\": %s, "
-                      "\"rejected_fraction\": %s}",
+                      "\"rejected_fraction\": %s,\n       \"per_frame\": %s}",
                       jnum(tTotal(r)).c_str(), jnum(tTree(r)).c_str(), jnum(tValid(r)).c_str(),
                       jnum(ratio(r.ok2d, r.n2d)).c_str(), jnum(ratio(r.okproj, r.n2d)).c_str(),
-                      jnum(addRate(r)).c_str(), jnum(rejectedFraction(r)).c_str());
+                      jnum(addRate(r)).c_str(), jnum(rejectedFraction(r)).c_str(),
+                      jsonFrames(r).c_str());
 }
+
+
 
 static std::string jsonString(const std::string& s)
 {
@@ -855,6 +922,7 @@ int main(int argc, char** argv)
     g_depth_tolerance = parser.get<int>("depth_tolerance");
     g_depth_validation = parser.get<int>("depth_validation") != 0;
     g_max_survivors = parser.get<int>("max_survivors");
+    g_depth_coarse = parser.get<int>("depth_coarse");
     g_leaf_samples = parser.get<float>("leaf_samples");
     const bool force = parser.has("force");
     const bool multi = !parser.has("no_multi");

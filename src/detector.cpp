@@ -31,10 +31,10 @@ static const int MODEL_FORMAT_VERSION = 1;
 // ---------------------------------------------------------------------------------------------
 DetectorParams::DetectorParams()
     : use_forest(true), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
-      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(0), depth_tolerance(5),
+      grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(63), depth_tolerance(5),
       min_window_labels(0.5f), depth_range_margin(0), dominant_window(3),
       group_size_ratio(1.3f), max_group_classes(0), auto_depth_leaf_samples(8.f),
-      grey_hue_label(false)
+      grey_hue_label(false), depth_coarse(0)
 {
     forest.max_depth = 0; // chosen at train() per search group (auto_depth_leaf_samples)
     // rejectors over dims that half the node's templates cover, and more of them: measured on
@@ -81,6 +81,8 @@ void DetectorParams::read(const FileNode& fn)
         auto_depth_leaf_samples = (float)fn["auto_depth_leaf_samples"];
     if (!fn["grey_hue_label"].empty())
         grey_hue_label = (int)fn["grey_hue_label"] != 0;
+    if (!fn["depth_coarse"].empty())
+        depth_coarse = (int)fn["depth_coarse"];
 }
 
 void DetectorParams::write(FileStorage& fs) const
@@ -105,6 +107,7 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "max_group_classes" << max_group_classes;
     fs << "auto_depth_leaf_samples" << auto_depth_leaf_samples;
     fs << "grey_hue_label" << (int)grey_hue_label;
+    fs << "depth_coarse" << depth_coarse;
 }
 
 static void checkParams(const DetectorParams& p)
@@ -119,6 +122,8 @@ static void checkParams(const DetectorParams& p)
     CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");
     CV_CheckLE(p.depth_samples, 256, "DetectorParams: depth_samples must be at most 256");
     CV_CheckGT(p.depth_tolerance, 0, "DetectorParams: depth_tolerance must be positive");
+    CV_CheckGE(p.depth_coarse, 0, "DetectorParams: depth_coarse must be 0, 1 or 2");
+    CV_CheckLE(p.depth_coarse, 2, "DetectorParams: depth_coarse must be 0, 1 or 2");
     CV_CheckGE(p.min_window_labels, 0.f, "DetectorParams: min_window_labels must be in [0, 1]");
     CV_CheckLE(p.min_window_labels, 1.f, "DetectorParams: min_window_labels must be in [0, 1]");
     CV_CheckGE(p.depth_range_margin, 0, "DetectorParams: depth_range_margin must be >= 0 (0: off)");
@@ -1035,7 +1040,7 @@ static void refineMatches(const std::vector<LevelMaps>& levels, const TemplatePy
                           const detail::DepthContext* depth = 0,
                           const detail::DepthTemplate* dt = 0)
 {
-    const int ns = depth && dt && dt->samples ? std::min(256, (int)dt->samples->size()) : 0;
+    const int samples = depth && dt && dt->samples ? (int)dt->samples->size() : 0;
     const int levels_n = static_cast<int>(levels.size());
     for (int l = levels_n - 2; l >= 0; --l)
     {
@@ -1069,9 +1074,10 @@ static void refineMatches(const std::vector<LevelMaps>& levels, const TemplatePy
                 }
             m.x = (x / T - 8 + best_c) * T + offset;
             m.y = (y / T - 8 + best_r) * T + offset;
+            const int ns = detail::depthSamplesAtLevel(samples, num_features, M);
             if (ns > 0)
             {
-                best += detail::depthSimilarity(depth[l], *dt, Point(m.x << l, m.y << l));
+                best += detail::depthSimilarity(depth[l], *dt, Point(m.x << l, m.y << l), ns);
                 num_features += ns;
             }
             m.similarity = num_features ? (best * 100.f) / (4 * num_features) : 0.f;
@@ -1317,7 +1323,8 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                 row_depth[r] = depthTemplate(impl, impl.rows[r].class_id,
                                              impl.rows[r].template_id);
         }
-        const detail::DepthContext* dctx = use_depth ? &depth_ctx[L] : 0;
+        const detail::DepthContext* dctx
+            = use_depth && params.depth_coarse > 0 ? &depth_ctx[L] : 0;
         const int z_lo = impl.z_min - params.depth_range_margin;
         const int z_hi = impl.z_max + params.depth_range_margin;
         parallel_for_(Range(0, H), [&](const Range& range) {
@@ -1446,7 +1453,7 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                     if (params.breadth_first)
                         detail::validateBreadthFirst(top, L, M, vc, params.chunk_size,
                                                      params.alpha, params.max_survivors,
-                                                     survivors, dctx);
+                                                     survivors, dctx, params.depth_coarse >= 2);
                     else
                     {
                         detail::validateAll(top, L, vc, dctx);

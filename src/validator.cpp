@@ -201,9 +201,11 @@ int depthSimilarityRange(const DepthContext& dc, const DepthTemplate& t, const V
     return sum;
 }
 
-int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin)
+int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin, int count)
 {
-    const int n = t.samples ? std::min(256, static_cast<int>(t.samples->size())) : 0;
+    int n = t.samples ? std::min(256, static_cast<int>(t.samples->size())) : 0;
+    if (count >= 0)
+        n = std::min(n, count);
     int offset = 0;
     if (n == 0)
         return 0;
@@ -221,10 +223,15 @@ static inline Point depthOrigin(const DepthContext& dc, Point tl)
                  (tl.y + dc.shift.y) * (1 << dc.scale_shift));
 }
 
-static inline int depthCount(const DepthContext* dc, const ValidationCandidate& c)
+static inline int depthCount(const DepthContext* dc, const ValidationCandidate& c,
+                             int level_index, int num_modalities)
 {
-    return dc && c.depth && c.depth->samples
-        ? std::min(256, static_cast<int>(c.depth->samples->size())) : 0;
+    if (!dc || !c.depth || !c.depth->samples)
+        return 0;
+    int nf = 0;
+    for (int m = 0; m < num_modalities; ++m)
+        nf += static_cast<int>((*c.tp)[level_index * num_modalities + m].features.size());
+    return depthSamplesAtLevel(static_cast<int>(c.depth->samples->size()), nf, num_modalities);
 }
 
 // the candidate's rotation row and offset, once
@@ -240,7 +247,8 @@ static int scoreAll(const LevelMaps& level, int level_index, ValidationCandidate
 {
     int nf = 0;
     int raw = similarityAll(level, *c.tp, level_index, c.tl, &nf);
-    const int ns = depthCount(dc, c);
+    const int M = static_cast<int>(level.response.size());
+    const int ns = depthCount(dc, c, level_index, M);
     if (ns > 0)
     {
         if (!c.zvalid)
@@ -267,9 +275,10 @@ void validateAll(const LevelMaps& level, int level_index, std::vector<Validation
 void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modalities,
                           std::vector<ValidationCandidate>& cands, int chunk_size, float alpha,
                           int max_survivors, std::vector<int>& survivors,
-                          const DepthContext* depth)
+                          const DepthContext* depth, bool depth_in_chunks)
 {
     CV_Assert(chunk_size > 0 && max_survivors > 0);
+    const DepthContext* chunk_depth = depth_in_chunks ? depth : 0;
     survivors.clear();
     std::vector<int> alive(cands.size());
     for (size_t i = 0; i < cands.size(); ++i)
@@ -282,11 +291,12 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
         c.total = 0;
         for (int m = 0; m < num_modalities; ++m)
             c.total += static_cast<int>((*c.tp)[level_index * num_modalities + m].features.size());
-        // the depth offset needs all samples: once per candidate, before its first chunk
-        const int ns = depthCount(depth, c);
+        // in the chunks, the depth offset needs all samples: once per candidate, before its
+        // first chunk; otherwise the samples join the survivors' full score (scoreAll)
+        const int ns = depthCount(chunk_depth, c, level_index, num_modalities);
         c.total += ns;
         if (ns > 0)
-            depthPrepare(*depth, c, ns);
+            depthPrepare(*chunk_depth, c, ns);
     }
     std::vector<float> scores;
     // chunk k of a candidate covers the fraction [k/K, (k+1)/K) of every modality's features, so
@@ -311,7 +321,7 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
                     c.raw += similarityRange(level, m, templ, c.tl, b, e);
                     c.scored += e - b;
                 }
-                const int ns = depthCount(depth, c);
+                const int ns = depthCount(chunk_depth, c, level_index, num_modalities);
                 if (ns > 0)
                 {
                     const int b = static_cast<int>((int64)ns * k / K);
@@ -340,7 +350,7 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
     for (size_t a = 0; a < alive.size(); ++a)
     {
         ValidationCandidate& c = cands[alive[a]];
-        if (c.scored < c.total)
+        if (c.scored < c.total || depthCount(depth, c, level_index, num_modalities) > 0)
             c.raw = scoreAll(level, level_index, c, depth);
         c.scored = c.total;
         survivors.push_back(alive[a]);

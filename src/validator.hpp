@@ -109,8 +109,19 @@ bool depthOffset(const DepthContext& dc, const DepthTemplate& t, const Vec3f& ro
 int depthSimilarityRange(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row,
                          Point origin, int offset, int begin, int end);
 
-/** Rotation row, offset and all samples: 0..4 per sample. */
-int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin);
+/** Rotation row, offset and the first `count` samples (all when count < 0): 0..4 per sample. */
+int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin, int count = -1);
+
+/** Depth samples scored at a pyramid level: as many as the template has features per modality
+there (at most `samples`, at most 256), so that depth weighs like one more modality at every
+level (the coarsest level has fewer features than level 0). The samples are ordered (most
+distinctive relief first, spread over the object), so a prefix is a sparser selection. */
+static inline int depthSamplesAtLevel(int samples, int features, int num_modalities)
+{
+    const int per_modality = num_modalities > 0
+        ? (features + num_modalities - 1) / num_modalities : features;
+    return std::max(0, std::min(std::min(samples, 256), per_modality));
+}
 
 /** A candidate of validation: a template and where its top-left is at the coarsest level. */
 struct ValidationCandidate
@@ -135,13 +146,14 @@ void validateAll(const LevelMaps& level, int level_index, std::vector<Validation
 /** Breadth-first preemptive validation (paper): features in chunks of chunk_size; after each
 chunk keep the candidates whose normalised score raw / (4 scored) is >= the median of the
 survivors and > alpha; stop when max_survivors (paper: 1) or fewer are left (or features run
-out). Every chunk takes the same share of each modality's features and, when `depth` is given,
-of the candidate's depth samples. The survivors are then scored on all their features. Returns
-the indices (into `cands`) of the survivors. */
+out). Every chunk takes the same share of each modality's features and, when `depth` is given
+and depth_in_chunks is true, of the candidate's depth samples. The survivors are then scored on
+all their features and, when `depth` is given, on all their depth samples. Returns the indices
+(into `cands`) of the survivors. */
 void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modalities,
                           std::vector<ValidationCandidate>& cands, int chunk_size, float alpha,
                           int max_survivors, std::vector<int>& survivors,
-                          const DepthContext* depth = 0);
+                          const DepthContext* depth = 0, bool depth_in_chunks = true);
 
 } // namespace detail
 } // namespace forestmod

@@ -66,9 +66,9 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     /** Depth as a validation modality (paper: "we add depth value as another modality in the
     validation stage to measure shape similarity"), with a DepthNormal modality: addTemplate
     keeps up to this many depth samples per template (spread over the object eroded by 2 px).
-    In breadth-first validation (every chunk takes its share of them) and at every pyramid
-    refinement level they are scored with the features, 0..4 each like LINEMOD's response, so
-    that with as many samples as features per modality depth weighs like one more modality.
+    At every pyramid refinement level (and, with depth_coarse, at the coarsest level) they are
+    scored with the features, 0..4 each like LINEMOD's response, as many of them as the
+    template has features per modality at that level: depth weighs like one more modality.
     Relative depths, the shape and not the distance: the template's depths are first predicted
     for the candidate's image position (turned onto its viewing ray with the template's pose and
     K, the scene's principal point taken as the image centre), the offset is the median of
@@ -80,16 +80,12 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     the initial pose (estimatePoses) and the depth range (depth_range_margin). Set to 0 after
     templates were added, the term is off and the samples stay. Not used in the exhaustive mode
     (plain LINEMOD). At most 256.
-    Default 0 (off), measured (doc/detector.md, "Depth"). With 63 (as many as LINEMOD's
-    features per modality), depth_tolerance 5 and max_survivors 2: a flat picture of the object
-    on the supporting plane loses a median 8.9 points and is detected at the threshold 80 in 2 of
-    8 scenes instead of 8, the object keeps its score (within 1 point); the rendered scenes of
-    forestmod_detector_bench keep 90 of 90 hits and their false matches at the threshold 80 fall
-    from 6.6 / 4.8 / 1.1 to 2.5 / 0 / 0 per scene. But on forestmod_eval --synthetic=5 the 1-tree
-    ADD falls from 92.5 to 82.5 % (5 trees: 95.0 -> 97.5 %), and for objects the forest rejects
-    little of (can, driller, eggbox: 2-5 % rejected) validation takes 5-15x longer (every
-    candidate pays n lookups and a median before its first chunk). Use 63 where pictures,
-    screens or flat clutter resembling the objects are expected. */
+    Where they are scored: depth_coarse (default: the pyramid refinement levels, not the
+    coarsest level). Default 63 (as many as LINEMOD's features per modality), measured
+    (doc/detector.md, "Depth"): on forestmod_eval --synthetic=5 the accuracy is that of 0 (ADD
+    95 % with 1 tree) and the time per frame about the same; a flat picture of the object on
+    the supporting plane loses points and falls under the threshold (test
+    Forestmod_DetectorRendered.depth_modality_separates_object_from_flat_picture). 0: off. */
     CV_PROP_RW int depth_samples;
     /** Tolerance (mm) of the depth samples' score. Default 5: about 3 sigma of Kinect-class
     noise at 1 m (1.5 mm, SyntheticSceneParams::depth_noise); a candidate's position error is
@@ -163,6 +159,20 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     99.6 % and find the can in 0 of 10 frames instead of 3 (the real can shows some hue where
     the rendered one is grey). Model files without this key load with false. */
     CV_PROP_RW bool grey_hue_label;
+    /** How the depth samples (depth_samples) take part at the coarsest pyramid level, where
+    the forest and breadth-first validation work. 0: not there; they are scored at every finer
+    level of the pyramid refinement, where a match's position is known to +-T / 2 pixels, and
+    decide there whether it passes the threshold and how it ranks. 1: also in the full score of
+    the breadth-first survivors at the coarsest level. 2: also in every breadth-first chunk (the
+    median rule). At each level a template scores as many samples as it has features per
+    modality there (depth weighs like one more modality). Default 0, measured with
+    forestmod_eval --synthetic=5 (doc/detector.md, "Depth"): at the coarsest level the samples
+    are read +-S / 2 pixels (8 at level 0) from where the object may be, so the right view of a
+    thin or steep object scores only 70-80 % there and, under LINEMOD's coarse threshold (90 %
+    of the raw score for threshold 80), is lost: 1 tree ADD 95 % with 0, 87.5 % with 1, 82.5 %
+    with 2 (which also makes validation 4-10x slower: every candidate pays for its depth offset
+    before its first chunk). */
+    CV_PROP_RW int depth_coarse;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
