@@ -7,6 +7,8 @@
 
 #include "test_precomp.hpp"
 
+#include <thread>
+
 namespace opencv_test { namespace {
 
 static Matx33d lmoK()
@@ -501,6 +503,7 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
     DetectorParams off = on;
     off.depth_samples = 0; // the samples stay, the validation term is off
     const int scenes = 8;
+    std::vector<std::vector<Mat> > sources; // of the first 4 scenes, for the threads below
     std::vector<double> drops;
     int detected_on = 0, detected_off = 0;
     for (int k = 0; k < scenes; ++k)
@@ -520,6 +523,8 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
         src.push_back(color);
         src.push_back(scene.depth);
         src.push_back(color);
+        if (k < 4)
+            sources.push_back(src);
         double obj[2] = { 0, 0 }, picture[2] = { 0, 0 };
         for (int w = 0; w < 2; ++w)
         {
@@ -580,6 +585,27 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
     EXPECT_GE(median_drop, 5.0);
     EXPECT_GE(detected_off, scenes - 1) << "the colour modalities take the picture for the object";
     EXPECT_LE(detected_on, 3) << "depth must reject most pictures at the threshold 80";
+    // the depth term is thread-safe: 4 threads calling match() on one detector give the serial
+    // results
+    det.setParams(on);
+    std::vector<std::vector<PoseMatch> > serial(sources.size()), parallel(sources.size());
+    for (size_t k = 0; k < sources.size(); ++k)
+        det.match(sources[k], 50.f, serial[k]);
+    std::vector<std::thread> threads;
+    for (size_t k = 0; k < sources.size(); ++k)
+        threads.push_back(std::thread([&, k]() { det.match(sources[k], 50.f, parallel[k]); }));
+    for (size_t k = 0; k < threads.size(); ++k)
+        threads[k].join();
+    for (size_t k = 0; k < sources.size(); ++k)
+    {
+        ASSERT_FALSE(serial[k].empty()) << k;
+        ASSERT_EQ(serial[k].size(), parallel[k].size()) << k;
+        for (size_t i = 0; i < serial[k].size(); ++i)
+            EXPECT_TRUE(serial[k][i].x == parallel[k][i].x && serial[k][i].y == parallel[k][i].y
+                        && serial[k][i].template_id == parallel[k][i].template_id
+                        && serial[k][i].similarity == parallel[k][i].similarity)
+                << k << " " << i;
+    }
     DetectorParams bad = on;
     bad.depth_samples = 257;
     EXPECT_THROW(det.setParams(bad), cv::Exception);

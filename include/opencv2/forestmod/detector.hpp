@@ -45,8 +45,8 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_PROP_RW float alpha;
     /** Breadth-first validation stops when this many candidates (or fewer) are left, and this
     many best candidates of a location go on to pyramid refinement. Paper: 1 ("until there is
-    only one or no candidate left"); without depth 2 gives the same hits (doc/detector.md). With
-    the depth modality (depth_samples) use 2: the coarse level then sometimes ranks the right view
+    only one or no candidate left"); 2 gives the same hits (doc/detector.md). With depth at the
+    coarsest level (depth_coarse > 0) use 2: the coarse level then sometimes ranks the right view
     a hair below a neighbouring one at every location (1 of 90 hits lost on the rendered scenes
     with 1); the finer level decides when two go on. */
     CV_PROP_RW int max_survivors;
