@@ -85,7 +85,7 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     (doc/detector.md, "Depth"): on forestmod_eval --synthetic=5 the accuracy is that of 0 (ADD
     95 % with 1 tree) and the time per frame about the same; a flat picture of the object on
     the supporting plane loses points and falls under the threshold (test
-    Forestmod_DetectorRendered.depth_modality_separates_object_from_flat_picture). 0: off. */
+    Forestmod_Detector.depth_modality_separates_object_from_flat_picture). 0: off. */
     CV_PROP_RW int depth_samples;
     /** Tolerance (mm) of the depth samples' score. Default 5: about 3 sigma of Kinect-class
     noise at 1 m (1.5 mm, SyntheticSceneParams::depth_noise); a candidate's position error is
@@ -169,8 +169,8 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     forestmod_eval --synthetic=5 (doc/detector.md, "Depth"): at the coarsest level the samples
     are read +-S / 2 pixels (8 at level 0) from where the object may be, so the right view of a
     thin or steep object scores only 70-80 % there and, under LINEMOD's coarse threshold (90 %
-    of the raw score for threshold 80), is lost: 1 tree ADD 95 % with 0, 87.5 % with 1, 82.5 %
-    with 2 (which also makes validation 4-10x slower: every candidate pays for its depth offset
+    of the raw score for threshold 80), is lost: 1 tree ADD 95 % with 0, 90 % with 1, 82.5 %
+    with 2, which also doubles the validation time (every candidate pays for its depth offset
     before its first chunk). */
     CV_PROP_RW int depth_coarse;
 
