@@ -233,6 +233,56 @@ static double checkResult(const cv::FileNode& r, const std::string& what, bool f
     return r["recall_2d"].isString() ? -1.0 : (double)r["recall_2d"];
 }
 
+// the per-frame records of one detector's result agree with its rates
+static void checkPerFrame(const cv::FileNode& r, int frames, bool with_depth,
+                          const std::string& what)
+{
+    const cv::FileNode pf = r["per_frame"];
+    ASSERT_TRUE(pf.isSeq()) << what;
+    ASSERT_EQ(frames, (int)pf.size()) << what;
+    int ok2d = 0, okadd = 0;
+    for (int i = 0; i < (int)pf.size(); ++i)
+    {
+        const cv::FileNode f = pf[i];
+        const std::string at = cv::format("%s, frame record %d", what.c_str(), i);
+        EXPECT_TRUE(f["im_id"].isInt()) << at;
+        EXPECT_TRUE(f["t_ms"].isReal() || f["t_ms"].isInt()) << at;
+        const int tid = (int)f["template_id"];
+        EXPECT_GE(tid, -1) << at;
+        const cv::FileNode top = f["top"];
+        ASSERT_TRUE(top.isSeq()) << at;
+        EXPECT_LE((int)top.size(), 5) << at;
+        for (int k = 0; k < (int)top.size(); ++k)
+        {
+            ASSERT_EQ(4, (int)top[k].size()) << at;
+            EXPECT_GE((int)top[k][0], 0) << at;
+        }
+        if (tid < 0)
+            continue;
+        EXPECT_GT((int)top.size(), 0) << at << ": a scored hypothesis comes from the matches";
+        EXPECT_GT((double)f["similarity"], 0.0) << at;
+        const double iou = (double)f["iou"];
+        EXPECT_GE(iou, 0.0) << at;
+        EXPECT_LE(iou, 1.0) << at;
+        EXPECT_GE((double)f["proj2d_px"], 0.0) << at;
+        ok2d += iou >= 0.5;
+        if (with_depth)
+        {
+            ASSERT_TRUE(f["add_d"].isReal() || f["add_d"].isInt()) << at;
+            okadd += (double)f["add_d"] < 0.1;
+        }
+        else
+        {
+            EXPECT_TRUE(f["add_d"].isString()) << at << ": null without depth";
+        }
+    }
+    EXPECT_NEAR((double)r["recall_2d"], double(ok2d) / frames, 1e-5) << what;
+    if (with_depth)
+    {
+        EXPECT_NEAR((double)r["add_01d"], double(okadd) / frames, 1e-5) << what;
+    }
+}
+
 TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
 {
     const std::string eval = samplePath("forestmod_eval");
@@ -263,6 +313,8 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
         const double recall1 = checkResult(o["forestmod"], what + " forestmod", true);
         checkResult(o["forestmod_5"], what + " forestmod_5", true);
         const double recall_lm = checkResult(o["linemod"], what + " linemod", false);
+        checkPerFrame(o["forestmod"], 5, true, what + " forestmod"); // the dataset has depth
+        checkPerFrame(o["linemod"], 5, true, what + " linemod");
         if (i == 0)
         {
             // the ape is shown at template poses: both detectors must find it
@@ -329,6 +381,8 @@ TEST(Forestmod_Eval, synthetic_scenes_give_add)
     const cv::FileNode o = fs["objects"][0];
     checkResult(o["forestmod"], "forestmod", true);
     checkResult(o["linemod"], "linemod", false);
+    checkPerFrame(o["forestmod_5"], 2, true, "forestmod_5");
+    checkPerFrame(o["linemod"], 2, true, "linemod");
     // the scenes show the ape at (perturbed) template poses: ICP brings cv::linemod's and
     // forestmod's best hypotheses within 0.1 d in at least one of the two
     EXPECT_GT((double)o["linemod"]["add_01d"], 0.0);
