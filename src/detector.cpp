@@ -34,7 +34,7 @@ DetectorParams::DetectorParams()
       grid_size(12), location_step(0), nms_iou(0.5f), depth_samples(63), depth_tolerance(5),
       min_window_labels(0.5f), depth_range_margin(0), dominant_window(3),
       group_size_ratio(1.3f), max_group_classes(0), auto_depth_leaf_samples(8.f),
-      grey_hue_label(false), depth_coarse(0)
+      grey_hue_label(false), depth_coarse(0), group_templates(true)
 {
     forest.max_depth = 0; // chosen at train() per search group (auto_depth_leaf_samples)
     // rejectors over dims that half the node's templates cover, and more of them: measured on
@@ -83,6 +83,8 @@ void DetectorParams::read(const FileNode& fn)
         grey_hue_label = (int)fn["grey_hue_label"] != 0;
     if (!fn["depth_coarse"].empty())
         depth_coarse = (int)fn["depth_coarse"];
+    if (!fn["group_templates"].empty())
+        group_templates = (int)fn["group_templates"] != 0;
 }
 
 void DetectorParams::write(FileStorage& fs) const
@@ -108,6 +110,7 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "auto_depth_leaf_samples" << auto_depth_leaf_samples;
     fs << "grey_hue_label" << (int)grey_hue_label;
     fs << "depth_coarse" << depth_coarse;
+    fs << "group_templates" << (int)group_templates;
 }
 
 static void checkParams(const DetectorParams& p)
@@ -737,26 +740,72 @@ static void buildGroups(Detector::Impl& impl,
     std::sort(by_size.begin(), by_size.end());
     const float ratio = impl.params.group_size_ratio;
     const int max_classes = impl.params.max_group_classes;
-    impl.groups.clear();
-    int group_extent = 0;
+    // the units grouped by size: whole classes, or (group_templates) every template on its own,
+    // so that the views of one class at different distances get windows of their own
+    struct Unit
+    {
+        bool grey;
+        int extent;
+        String class_id;
+        int row; //!< first row of the unit
+        int n;   //!< rows of the unit
+        bool operator<(const Unit& b) const
+        {
+            if (grey != b.grey)
+                return !grey;
+            if (extent != b.extent)
+                return extent < b.extent;
+            if (class_id != b.class_id)
+                return class_id < b.class_id;
+            return row < b.row;
+        }
+    };
+    std::vector<Unit> units;
     for (size_t k = 0; k < by_size.size(); ++k)
     {
-        const int extent = by_size[k].first.second;
+        const String& cls = by_size[k].second;
+        const std::vector<TemplatePyramid>& tps = class_templates.find(cls)->second;
         const bool grey = by_size[k].first.first != 0;
-        const bool fits = !impl.groups.empty() && impl.groups.back().grey == grey
-            && (ratio <= 0.f || extent <= ratio * group_extent)
-            && (max_classes <= 0 || (int)impl.groups.back().classes.size() < max_classes);
+        if (!impl.params.group_templates)
+        {
+            Unit u = { grey, by_size[k].first.second, cls, first_row[cls], (int)tps.size() };
+            units.push_back(u);
+            continue;
+        }
+        for (size_t i = 0; i < tps.size(); ++i)
+        {
+            const Template& top = tps[i][L * M];
+            Unit u = { grey, std::max(top.width, top.height) + 1, cls,
+                       first_row[cls] + (int)i, 1 };
+            units.push_back(u);
+        }
+    }
+    if (impl.params.group_templates)
+        std::sort(units.begin(), units.end());
+    impl.groups.clear();
+    int group_extent = 0;
+    for (size_t k = 0; k < units.size(); ++k)
+    {
+        const Unit& u = units[k];
+        bool fits = !impl.groups.empty() && impl.groups.back().grey == u.grey
+            && (ratio <= 0.f || u.extent <= ratio * group_extent);
+        if (fits && max_classes > 0)
+        {
+            const std::vector<String>& cl = impl.groups.back().classes;
+            fits = std::find(cl.begin(), cl.end(), u.class_id) != cl.end()
+                || (int)cl.size() < max_classes;
+        }
         if (!fits)
         {
             impl.groups.push_back(SearchGroup());
-            impl.groups.back().grey = grey;
-            group_extent = extent;
+            impl.groups.back().grey = u.grey;
+            group_extent = u.extent;
         }
         SearchGroup& g = impl.groups.back();
-        g.classes.push_back(by_size[k].second);
-        const int n = (int)class_templates.find(by_size[k].second)->second.size();
-        for (int i = 0; i < n; ++i)
-            g.rows.push_back(first_row[by_size[k].second] + i);
+        if (std::find(g.classes.begin(), g.classes.end(), u.class_id) == g.classes.end())
+            g.classes.push_back(u.class_id);
+        for (int i = 0; i < u.n; ++i)
+            g.rows.push_back(u.row + i);
     }
 }
 
@@ -1616,6 +1665,9 @@ void Detector::read(const FileNode& fn)
         // written before the grey hue label existed: the forests read the plain hue
         if (fn["forestmod_params"]["grey_hue_label"].empty())
             p.grey_hue_label = false;
+        // written before template-level groups: whole classes were grouped
+        if (fn["forestmod_params"]["group_templates"].empty())
+            p.group_templates = false;
     }
     checkParams(p);
     AutoLock lock(impl_->mutex);

@@ -500,8 +500,9 @@ TEST(Forestmod_Detector, search_groups_model_roundtrip)
         ss << f.rdbuf();
         text = ss.str();
     }
-    const char* keys[] = { "group_size_ratio:", "max_group_classes:", "auto_depth_leaf_samples:" };
-    for (int k = 0; k < 3; ++k)
+    const char* keys[] = { "group_size_ratio:", "max_group_classes:", "auto_depth_leaf_samples:",
+                           "group_templates:" };
+    for (int k = 0; k < 4; ++k)
     {
         const size_t at = text.find(keys[k]);
         ASSERT_NE(std::string::npos, at) << keys[k];
@@ -517,7 +518,56 @@ TEST(Forestmod_Detector, search_groups_model_roundtrip)
     EXPECT_TRUE(old.isTrained());
     EXPECT_EQ(1, old.numSearchGroups());
     EXPECT_EQ(0.f, old.getParams().group_size_ratio);
+    EXPECT_FALSE(old.getParams().group_templates);
     std::remove(file.c_str());
+}
+
+// group_templates: one class seen at two sizes (two distances) gets a window and a forest per
+// size; with class groups one window covers both and the small views fill a corner of it
+TEST(Forestmod_Detector, search_groups_of_templates_split_one_class_by_size)
+{
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(gradient());
+    mods.push_back(ColorHue::create());
+    const Size size(640, 480);
+    RNG rng(9);
+    Mat scene = clutter(size, rng);
+    drawObject(scene, 0, Point2f(200, 200), 0.f, 0.6f);
+    drawObject(scene, 0, Point2f(430, 280), 4.f, 1.6f);
+    for (int by_template = 0; by_template < 2; ++by_template)
+    {
+        DetectorParams p;
+        p.group_templates = by_template != 0;
+        cv::forestmod::Detector det(mods, Tpyr(), p);
+        for (int i = 0; i < 6; ++i)
+            for (int k = 0; k < 2; ++k)
+            {
+                Mat img = Mat::zeros(size, CV_8UC3), mask;
+                drawObject(img, &mask, Point2f(320, 240), -20.f + 8.f * i, k ? 1.6f : 0.6f);
+                ASSERT_GE(det.addTemplate(std::vector<Mat>(2, img), "obj", mask), 0);
+            }
+        det.train();
+        ASSERT_EQ(by_template ? 2 : 1, det.numSearchGroups()) << by_template;
+        for (int g = 0; g < det.numSearchGroups(); ++g)
+        {
+            EXPECT_EQ(std::vector<String>(1, "obj"), det.getSearchGroupClasses(g));
+            EXPECT_EQ(by_template ? 6 : 12, det.getForest(g)->numTemplates()) << g;
+        }
+        std::vector<linemod::Match> matches;
+        det.match(std::vector<Mat>(2, scene), 80.f, matches);
+        bool small = false, large = false;
+        for (size_t i = 0; i < matches.size(); ++i)
+        {
+            // templates were added small (even ids) and large (odd ids) in turn
+            const linemod::Template& t0 = det.getTemplates("obj", matches[i].template_id)[0];
+            const Point2f c(matches[i].x + t0.width / 2.f, matches[i].y + t0.height / 2.f);
+            if (matches[i].template_id % 2 == 0)
+                small = small || cv::norm(c - Point2f(200, 200)) < 30;
+            else
+                large = large || cv::norm(c - Point2f(430, 280)) < 40;
+        }
+        EXPECT_TRUE(small && large) << "both sizes found, by_template " << by_template;
+    }
 }
 
 }} // namespace
@@ -543,6 +593,7 @@ TEST(Forestmod_Detector, grey_hue_label_for_colourless_objects)
     {
         DetectorParams p;
         p.grey_hue_label = grey != 0;
+        p.group_templates = false; // class groups: the groups are counted below
         cv::forestmod::Detector det(mods, Tpyr(), p);
         for (int i = 0; i < 5; ++i)
         {

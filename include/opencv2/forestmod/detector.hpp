@@ -173,6 +173,17 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     with 2, which also doubles the validation time (every candidate pays for its depth offset
     before its first chunk). */
     CV_PROP_RW int depth_coarse;
+    /** Search groups of templates, not of classes: the templates (of all classes) are sorted by
+    their size at the coarsest level and grouped by group_size_ratio as classes are otherwise,
+    so the views of one object at different distances (or a long object seen end-on and
+    side-on) get windows and forests of their own; a group's classes are the classes of its
+    templates, and max_group_classes limits them. false: a class's templates all go to one
+    group. Default true, measured (doc/detector.md, "Search groups of templates"): the can with
+    templates at 700 and 1100 mm (forestmod_detector_bench --objects=5 --radii=700,1100) was
+    rejected 14 % with class groups; one window over both scales leaves the far views few
+    on-mask grid points, so the rejectors accept background. Model files without this key
+    load with false. */
+    CV_PROP_RW bool group_templates;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
