@@ -119,10 +119,10 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     stride of 2 (9 instead of 25 samples per template) the rendered scenes keep every hit with
     fewer candidates and more rejection. */
     CV_PROP_RW int dominant_window;
-    /** Search groups (doc/detector.md, "Several objects in one detector"): the classes are
-    sorted by the size of their largest template at the coarsest level and grouped greedily; a
-    group takes the next class while that class's size is at most group_size_ratio times the
-    group's smallest. Each group has its own descriptor window (a grid over its own largest
+    /** Search groups (doc/detector.md, "Several objects in one detector"): the templates (with
+    group_templates; else the classes, by their largest template) are sorted by their size at
+    the coarsest level and grouped greedily; a group takes the next one while its size is at
+    most group_size_ratio times the group's smallest. Each group has its own descriptor window (a grid over its own largest
     template), flat-window limit and forest; a location leaves when every group rejects it, its
     candidates are the union of the groups' leaves. With one window over the largest object the
     small objects have few on-mask grid points, their templates spread over hundreds of leaves
