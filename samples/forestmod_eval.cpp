@@ -69,6 +69,7 @@ static const char* keys
       "{depth_tolerance | -1       | experiment: DetectorParams::depth_tolerance (mm; -1: default) }"
       "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
       "{depth_coarse    | -1       | experiment: DetectorParams::depth_coarse (0, 1, 2; -1: default) }"
+      "{any_tree        | -1       | experiment: ForestParams::reject_any_tree of the forests (0, 1; -1: default) }"
       "{leaf_samples    | -1       | experiment: DetectorParams::auto_depth_leaf_samples (-1: "
       "default; 0: the paper's depth 8 / 9) }"
       "{depth_validation | 1       | experiment: 0 turns the depth validation term off after the "
@@ -265,7 +266,7 @@ struct TemplateSetup
 
 // --depth_samples / --depth_tolerance (-1: the library's defaults)
 static int g_depth_samples = -1, g_depth_tolerance = -1;
-static int g_max_survivors = -1, g_depth_coarse = -1;
+static int g_max_survivors = -1, g_depth_coarse = -1, g_any_tree = -1;
 static float g_leaf_samples = -1.f;
 static bool g_depth_validation = true;
 
@@ -279,6 +280,8 @@ static fm::DetectorParams experimentParams(fm::DetectorParams p)
         p.max_survivors = g_max_survivors;
     if (g_depth_coarse >= 0)
         p.depth_coarse = g_depth_coarse;
+    if (g_any_tree >= 0)
+        p.forest.reject_any_tree = g_any_tree != 0;
     if (g_leaf_samples >= 0.f)
         p.auto_depth_leaf_samples = g_leaf_samples;
     return p;
@@ -923,6 +926,7 @@ int main(int argc, char** argv)
     g_depth_validation = parser.get<int>("depth_validation") != 0;
     g_max_survivors = parser.get<int>("max_survivors");
     g_depth_coarse = parser.get<int>("depth_coarse");
+    g_any_tree = parser.get<int>("any_tree");
     g_leaf_samples = parser.get<float>("leaf_samples");
     const bool force = parser.has("force");
     const bool multi = !parser.has("no_multi");
