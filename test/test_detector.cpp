@@ -70,6 +70,15 @@ static void addObjectTemplates(D& det, int n, const String& class_id, std::vecto
 
 static Ptr<linemod::Modality> gradient() { return linemod::Modality::create("ColorGradient"); }
 
+// gradient + hue (getDefaultForestLINE's modalities)
+static std::vector<Ptr<linemod::Modality> > gradientHue()
+{
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(gradient());
+    mods.push_back(ColorHue::create());
+    return mods;
+}
+
 static std::vector<int> Tpyr()
 {
     std::vector<int> T;
@@ -80,9 +89,7 @@ static std::vector<int> Tpyr()
 
 TEST(Forestmod_Detector, exhaustive_mode_equals_linemod)
 {
-    std::vector<Ptr<linemod::Modality> > mods;
-    mods.push_back(gradient());
-    mods.push_back(ColorHue::create());
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
     DetectorParams p;
     p.use_forest = false;
     p.nms_iou = 0.f;
@@ -162,9 +169,7 @@ TEST(Forestmod_Detector, drop_in_for_linemod_programs)
 
 TEST(Forestmod_Detector, forest_finds_object_and_rejects_background)
 {
-    std::vector<Ptr<linemod::Modality> > mods;
-    mods.push_back(gradient());
-    mods.push_back(ColorHue::create());
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
     cv::forestmod::Detector det(mods, Tpyr());
     std::vector<float> angles;
     addObjectTemplates(det, 40, "L", &angles);
@@ -232,9 +237,7 @@ TEST(Forestmod_Detector, more_than_63_features_and_single_modality)
 
 TEST(Forestmod_Detector, object_without_hue_is_learned_by_the_other_modalities)
 {
-    std::vector<Ptr<linemod::Modality> > mods;
-    mods.push_back(gradient());
-    mods.push_back(ColorHue::create());
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
     cv::forestmod::Detector det(mods, Tpyr());
     Mat img = Mat::zeros(480, 640, CV_8UC3), mask = Mat::zeros(480, 640, CV_8U);
     rectangle(img, Rect(250, 180, 120, 90), Scalar(235, 235, 235), FILLED); // white box
@@ -272,9 +275,7 @@ TEST(Forestmod_Detector, any_image_size)
 
 TEST(Forestmod_Detector, threads_give_identical_results)
 {
-    std::vector<Ptr<linemod::Modality> > mods;
-    mods.push_back(gradient());
-    mods.push_back(ColorHue::create());
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
     cv::forestmod::Detector det(mods, Tpyr());
     addObjectTemplates(det, 20, "L", 0);
     det.train();
@@ -355,9 +356,7 @@ TEST(Forestmod_Detector, bad_input_raises)
 
 TEST(Forestmod_Detector, model_file_roundtrip_and_corrupt_files)
 {
-    std::vector<Ptr<linemod::Modality> > mods;
-    mods.push_back(gradient());
-    mods.push_back(ColorHue::create());
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
     cv::forestmod::Detector det(mods, Tpyr());
     std::vector<float> angles;
     const Size size(640, 480);
@@ -421,9 +420,7 @@ namespace opencv_test { namespace {
 // a model file of the layout before groups (one forest, no group parameters) still loads.
 TEST(Forestmod_Detector, search_groups_model_roundtrip)
 {
-    std::vector<Ptr<linemod::Modality> > mods;
-    mods.push_back(gradient());
-    mods.push_back(ColorHue::create());
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
     cv::forestmod::Detector det(mods, Tpyr());
     const Size size(640, 480);
     for (int i = 0; i < 6; ++i)
@@ -526,9 +523,7 @@ TEST(Forestmod_Detector, search_groups_model_roundtrip)
 // size; with class groups one window covers both and the small views fill a corner of it
 TEST(Forestmod_Detector, search_groups_of_templates_split_one_class_by_size)
 {
-    std::vector<Ptr<linemod::Modality> > mods;
-    mods.push_back(gradient());
-    mods.push_back(ColorHue::create());
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
     const Size size(640, 480);
     RNG rng(9);
     Mat scene = clutter(size, rng);
@@ -579,9 +574,7 @@ namespace opencv_test { namespace {
 // found either way, and a uniform grey image stays flat (the grey label does not count).
 TEST(Forestmod_Detector, grey_hue_label_for_colourless_objects)
 {
-    std::vector<Ptr<linemod::Modality> > mods;
-    mods.push_back(gradient());
-    mods.push_back(ColorHue::create());
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
     const Size size(640, 480);
     RNG rng(21);
     Mat scene = clutter(size, rng);
