@@ -1230,7 +1230,9 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
     if (use_depth)
     {
         depth_ctx.resize(pyramid_levels);
-        for (int l = 0; l <= L; ++l)
+        // the coarsest level only when depth is scored there (depth_coarse)
+        const int last = params.depth_coarse > 0 ? L : L - 1;
+        for (int l = 0; l <= last; ++l)
         {
             const int step = l == L ? std::min(locationStep(params, T_at_level[L]), T_at_level[L])
                                     : T_at_level[l];
@@ -1363,8 +1365,11 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
         const Mat scene_depth = dm >= 0 ? sources[dm] : Mat();
         // a coarse candidate's template lies within [tl, tl + S] (its location misses the
         // anchor by up to S / 2): its depth samples are read at the middle
+        // (at the coarsest level only with depth_coarse; the refinement levels below read the
+        // samples of the few refined matches)
+        const bool coarse_depth = use_depth && params.depth_coarse > 0;
         std::vector<detail::DepthTemplate> row_depth;
-        if (use_depth)
+        if (coarse_depth)
         {
             depth_ctx[L].shift = Point(S / 2, S / 2);
             row_depth.resize(impl.rows.size());
@@ -1372,8 +1377,7 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                 row_depth[r] = depthTemplate(impl, impl.rows[r].class_id,
                                              impl.rows[r].template_id);
         }
-        const detail::DepthContext* dctx
-            = use_depth && params.depth_coarse > 0 ? &depth_ctx[L] : 0;
+        const detail::DepthContext* dctx = coarse_depth ? &depth_ctx[L] : 0;
         const int z_lo = impl.z_min - params.depth_range_margin;
         const int z_hi = impl.z_max + params.depth_range_margin;
         parallel_for_(Range(0, H), [&](const Range& range) {
@@ -1483,7 +1487,7 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                         detail::ValidationCandidate v;
                         v.index = row;
                         v.tp = &tp;
-                        v.depth = use_depth && row_depth[row].samples ? &row_depth[row] : 0;
+                        v.depth = coarse_depth && row_depth[row].samples ? &row_depth[row] : 0;
                         v.zoffset = 0;
                         v.zvalid = false;
                         // the true anchor lies within S/2 of the location; spread responses
