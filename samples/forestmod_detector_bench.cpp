@@ -57,9 +57,7 @@ static const char* keys
       "{dominant       | -1      | dominant_window }"
       "{depth_margin   | -1      | depth_range_margin (mm, 0: off) }"
       "{gratio         | -1      | group_size_ratio (0: no size limit) }"
-      "{gclasses       | -1      | max_group_classes (0: no limit, 1: a forest per class) }"
       "{leaf_samples   | -1      | auto_depth_leaf_samples (0: the paper's depth) }"
-      "{grey           | -1      | grey_hue_label (0/1) }"
       "{k              | -1      | max_survivors }"
       "{chunk          | -1      | chunk_size }"
       "{alpha          | -1      | alpha }"
@@ -189,9 +187,7 @@ int main(int argc, char** argv)
     BENCH_SET("dominant", dominant_window, int)
     BENCH_SET("depth_margin", depth_range_margin, int)
     BENCH_SET("gratio", group_size_ratio, float)
-    BENCH_SET("gclasses", max_group_classes, int)
     BENCH_SET("leaf_samples", auto_depth_leaf_samples, float)
-    BENCH_SET("grey", grey_hue_label, bool)
     BENCH_SET("k", max_survivors, int)
     BENCH_SET("chunk", chunk_size, int)
     BENCH_SET("alpha", alpha, float)

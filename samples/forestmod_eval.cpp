@@ -68,7 +68,6 @@ static const char* keys
       "default; 0: no depth samples, templates cached separately) }"
       "{depth_tolerance | -1       | experiment: DetectorParams::depth_tolerance (mm; -1: default) }"
       "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
-      "{depth_coarse    | -1       | experiment: DetectorParams::depth_coarse (0, 1, 2; -1: default) }"
       "{any_tree        | -1       | experiment: ForestParams::reject_any_tree of the forests (0, 1; -1: default) }"
       "{leaf_samples    | -1       | experiment: DetectorParams::auto_depth_leaf_samples (-1: "
       "default; 0: the paper's depth 8 / 9) }"
@@ -266,7 +265,7 @@ struct TemplateSetup
 
 // --depth_samples / --depth_tolerance (-1: the library's defaults)
 static int g_depth_samples = -1, g_depth_tolerance = -1;
-static int g_max_survivors = -1, g_depth_coarse = -1, g_any_tree = -1;
+static int g_max_survivors = -1, g_any_tree = -1;
 static float g_leaf_samples = -1.f;
 static bool g_depth_validation = true;
 
@@ -278,8 +277,6 @@ static fm::DetectorParams experimentParams(fm::DetectorParams p)
         p.depth_tolerance = g_depth_tolerance;
     if (g_max_survivors > 0)
         p.max_survivors = g_max_survivors;
-    if (g_depth_coarse >= 0)
-        p.depth_coarse = g_depth_coarse;
     if (g_any_tree >= 0)
         p.forest.reject_any_tree = g_any_tree != 0;
     if (g_leaf_samples >= 0.f)
@@ -925,7 +922,6 @@ int main(int argc, char** argv)
     g_depth_tolerance = parser.get<int>("depth_tolerance");
     g_depth_validation = parser.get<int>("depth_validation") != 0;
     g_max_survivors = parser.get<int>("max_survivors");
-    g_depth_coarse = parser.get<int>("depth_coarse");
     g_any_tree = parser.get<int>("any_tree");
     g_leaf_samples = parser.get<float>("leaf_samples");
     const bool force = parser.has("force");

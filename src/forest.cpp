@@ -7,6 +7,7 @@
 // (rejector.cpp). Decisions and their numbers: doc/forest.md.
 
 #include "precomp.hpp"
+#include "params_io.hpp"
 #include "rejector.hpp"
 
 #include <cstring>
@@ -32,20 +33,20 @@ ForestParams::ForestParams()
 
 void ForestParams::read(const FileNode& fn)
 {
-    if (!fn["num_trees"].empty()) num_trees = (int)fn["num_trees"];
-    if (!fn["max_depth"].empty()) max_depth = (int)fn["max_depth"];
-    if (!fn["min_node_size"].empty()) min_node_size = (int)fn["min_node_size"];
-    if (!fn["split_dims"].empty()) split_dims = (int)fn["split_dims"];
-    if (!fn["pool_size"].empty()) pool_size = (int)fn["pool_size"];
-    if (!fn["fuzzy_margin"].empty()) fuzzy_margin = (float)fn["fuzzy_margin"];
-    if (!fn["split_coverage"].empty()) split_coverage = (float)fn["split_coverage"];
-    if (!fn["rejector_dims"].empty()) rejector_dims = (int)fn["rejector_dims"];
-    if (!fn["rejector_rho"].empty()) rejector_rho = (float)fn["rejector_rho"];
-    if (!fn["rejector_tau"].empty()) rejector_tau = (float)fn["rejector_tau"];
-    if (!fn["rejector_coverage"].empty()) rejector_coverage = (float)fn["rejector_coverage"];
-    if (!fn["rejector_noise"].empty()) rejector_noise = (float)fn["rejector_noise"];
-    if (!fn["reject_any_tree"].empty()) reject_any_tree = (int)fn["reject_any_tree"] != 0;
-    if (!fn["seed"].empty()) seed = (int)fn["seed"];
+    detail::readField(fn, "num_trees", num_trees);
+    detail::readField(fn, "max_depth", max_depth);
+    detail::readField(fn, "min_node_size", min_node_size);
+    detail::readField(fn, "split_dims", split_dims);
+    detail::readField(fn, "pool_size", pool_size);
+    detail::readField(fn, "fuzzy_margin", fuzzy_margin);
+    detail::readField(fn, "split_coverage", split_coverage);
+    detail::readField(fn, "rejector_dims", rejector_dims);
+    detail::readField(fn, "rejector_rho", rejector_rho);
+    detail::readField(fn, "rejector_tau", rejector_tau);
+    detail::readField(fn, "rejector_coverage", rejector_coverage);
+    detail::readField(fn, "rejector_noise", rejector_noise);
+    detail::readField(fn, "reject_any_tree", reject_any_tree);
+    detail::readField(fn, "seed", seed);
 }
 
 void ForestParams::write(FileStorage& fs) const

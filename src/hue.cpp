@@ -5,6 +5,7 @@
 // The quantized hue modality (paper: "Hue" of the LINEMOD descriptor; LINEMOD ACCV 2012).
 
 #include "precomp.hpp"
+#include "params_io.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -60,12 +61,11 @@ ColorHue::Params::Params()
 
 void ColorHue::Params::read(const FileNode& fn)
 {
-    saturation_threshold = fn["saturation_threshold"].empty() ? saturation_threshold
-                                                              : (int)fn["saturation_threshold"];
-    value_threshold = fn["value_threshold"].empty() ? value_threshold : (int)fn["value_threshold"];
-    num_features = fn["num_features"].empty() ? num_features : (int)fn["num_features"];
-    blur_size = fn["blur_size"].empty() ? blur_size : (int)fn["blur_size"];
-    mask_erosion = fn["mask_erosion"].empty() ? mask_erosion : (int)fn["mask_erosion"];
+    detail::readField(fn, "saturation_threshold", saturation_threshold);
+    detail::readField(fn, "value_threshold", value_threshold);
+    detail::readField(fn, "num_features", num_features);
+    detail::readField(fn, "blur_size", blur_size);
+    detail::readField(fn, "mask_erosion", mask_erosion);
 }
 
 void ColorHue::Params::write(FileStorage& fs) const

@@ -7,6 +7,7 @@
 // Tukey biweights (IRLS); 6x6 normal equations solved with Eigen. See doc/pose.md.
 
 #include "precomp.hpp"
+#include "params_io.hpp"
 #include "opencv2/calib3d.hpp"
 
 #ifdef HAVE_FORESTMOD_EIGEN
@@ -28,24 +29,22 @@ ICPParams::ICPParams()
 
 void ICPParams::read(const FileNode& fn)
 {
-#define FORESTMOD_READ_FIELD(name, type) name = fn[#name].empty() ? name : (type)fn[#name]
-    FORESTMOD_READ_FIELD(max_iterations, int);
-    FORESTMOD_READ_FIELD(max_correspondence_distance, double);
-    FORESTMOD_READ_FIELD(min_correspondence_distance, double);
-    FORESTMOD_READ_FIELD(gate_sigma_factor, double);
-    FORESTMOD_READ_FIELD(tukey_c, double);
-    FORESTMOD_READ_FIELD(tukey_c_coarse, double);
-    FORESTMOD_READ_FIELD(search_radius, int);
-    FORESTMOD_READ_FIELD(normal_radius, int);
-    FORESTMOD_READ_FIELD(depth_discontinuity, double);
-    FORESTMOD_READ_FIELD(rotation_epsilon, double);
-    FORESTMOD_READ_FIELD(translation_epsilon, double);
-    FORESTMOD_READ_FIELD(max_points, int);
-    FORESTMOD_READ_FIELD(min_correspondences, int);
-    FORESTMOD_READ_FIELD(inlier_distance, double);
-    FORESTMOD_READ_FIELD(max_rotation_step, double);
-    FORESTMOD_READ_FIELD(min_ray_cosine, double);
-#undef FORESTMOD_READ_FIELD
+    detail::readField(fn, "max_iterations", max_iterations);
+    detail::readField(fn, "max_correspondence_distance", max_correspondence_distance);
+    detail::readField(fn, "min_correspondence_distance", min_correspondence_distance);
+    detail::readField(fn, "gate_sigma_factor", gate_sigma_factor);
+    detail::readField(fn, "tukey_c", tukey_c);
+    detail::readField(fn, "tukey_c_coarse", tukey_c_coarse);
+    detail::readField(fn, "search_radius", search_radius);
+    detail::readField(fn, "normal_radius", normal_radius);
+    detail::readField(fn, "depth_discontinuity", depth_discontinuity);
+    detail::readField(fn, "rotation_epsilon", rotation_epsilon);
+    detail::readField(fn, "translation_epsilon", translation_epsilon);
+    detail::readField(fn, "max_points", max_points);
+    detail::readField(fn, "min_correspondences", min_correspondences);
+    detail::readField(fn, "inlier_distance", inlier_distance);
+    detail::readField(fn, "max_rotation_step", max_rotation_step);
+    detail::readField(fn, "min_ray_cosine", min_ray_cosine);
 }
 
 void ICPParams::write(FileStorage& fs) const

@@ -7,6 +7,7 @@
 // with Levenberg-Marquardt over the 6 DoF. See doc/pose.md, "Refinement without depth".
 
 #include "precomp.hpp"
+#include "params_io.hpp"
 #include "opencv2/calib3d.hpp"
 
 namespace cv {
@@ -21,32 +22,19 @@ EdgeRefineParams::EdgeRefineParams()
 
 void EdgeRefineParams::read(const FileNode& fn)
 {
-    if (!fn["orientations"].empty())
-        orientations = (int)fn["orientations"];
-    if (!fn["canny_low"].empty())
-        canny_low = (double)fn["canny_low"];
-    if (!fn["canny_high"].empty())
-        canny_high = (double)fn["canny_high"];
-    if (!fn["max_distance"].empty())
-        max_distance = (double)fn["max_distance"];
-    if (!fn["passes"].empty())
-        passes = (int)fn["passes"];
-    if (!fn["iterations"].empty())
-        iterations = (int)fn["iterations"];
-    if (!fn["max_points"].empty())
-        max_points = (int)fn["max_points"];
-    if (!fn["huber"].empty())
-        huber = (double)fn["huber"];
-    if (!fn["inlier_distance"].empty())
-        inlier_distance = (double)fn["inlier_distance"];
-    if (!fn["inner_edges"].empty())
-        inner_edges = (int)fn["inner_edges"] != 0;
-    if (!fn["search_angle"].empty())
-        search_angle = (double)fn["search_angle"];
-    if (!fn["search_steps"].empty())
-        search_steps = (int)fn["search_steps"];
-    if (!fn["hypotheses"].empty())
-        hypotheses = (int)fn["hypotheses"];
+    detail::readField(fn, "orientations", orientations);
+    detail::readField(fn, "canny_low", canny_low);
+    detail::readField(fn, "canny_high", canny_high);
+    detail::readField(fn, "max_distance", max_distance);
+    detail::readField(fn, "passes", passes);
+    detail::readField(fn, "iterations", iterations);
+    detail::readField(fn, "max_points", max_points);
+    detail::readField(fn, "huber", huber);
+    detail::readField(fn, "inlier_distance", inlier_distance);
+    detail::readField(fn, "inner_edges", inner_edges);
+    detail::readField(fn, "search_angle", search_angle);
+    detail::readField(fn, "search_steps", search_steps);
+    detail::readField(fn, "hypotheses", hypotheses);
 }
 
 void EdgeRefineParams::write(FileStorage& fs) const

@@ -6,6 +6,7 @@
 // rotations; LINEMOD ACCV 2012's training views) and renderTemplates.
 
 #include "precomp.hpp"
+#include "params_io.hpp"
 
 #include <map>
 
@@ -45,23 +46,17 @@ ViewSampler::Params ViewSampler::Params::coarse()
 
 void ViewSampler::Params::read(const FileNode& fn)
 {
-    if (!fn["level"].empty())
-        level = (int)fn["level"];
-    if (!fn["min_elevation"].empty())
-        min_elevation = (double)fn["min_elevation"];
-    if (!fn["max_elevation"].empty())
-        max_elevation = (double)fn["max_elevation"];
+    detail::readField(fn, "level", level);
+    detail::readField(fn, "min_elevation", min_elevation);
+    detail::readField(fn, "max_elevation", max_elevation);
     if (!fn["radii"].empty())
     {
         radii.clear();
         fn["radii"] >> radii;
     }
-    if (!fn["inplane_min"].empty())
-        inplane_min = (double)fn["inplane_min"];
-    if (!fn["inplane_max"].empty())
-        inplane_max = (double)fn["inplane_max"];
-    if (!fn["inplane_step"].empty())
-        inplane_step = (double)fn["inplane_step"];
+    detail::readField(fn, "inplane_min", inplane_min);
+    detail::readField(fn, "inplane_max", inplane_max);
+    detail::readField(fn, "inplane_step", inplane_step);
 }
 
 void ViewSampler::Params::write(FileStorage& fs) const

@@ -6,6 +6,7 @@
 // no depth, so depth accuracy is measured on scenes the project renders itself).
 
 #include "precomp.hpp"
+#include "params_io.hpp"
 
 #include "opencv2/calib3d.hpp"
 #include "opencv2/forestmod/synthetic.hpp"
@@ -21,22 +22,14 @@ SyntheticSceneParams::SyntheticSceneParams()
 
 void SyntheticSceneParams::read(const FileNode& fn)
 {
-    if (!fn["clutter_objects"].empty())
-        clutter_objects = (int)fn["clutter_objects"];
-    if (!fn["max_perturbation_deg"].empty())
-        max_perturbation_deg = (double)fn["max_perturbation_deg"];
-    if (!fn["distance_jitter"].empty())
-        distance_jitter = (double)fn["distance_jitter"];
-    if (!fn["margin"].empty())
-        margin = (double)fn["margin"];
-    if (!fn["depth_noise"].empty())
-        depth_noise = (double)fn["depth_noise"];
-    if (!fn["depth_dropout"].empty())
-        depth_dropout = (double)fn["depth_dropout"];
-    if (!fn["plane_offset"].empty())
-        plane_offset = (double)fn["plane_offset"];
-    if (!fn["color_noise"].empty())
-        color_noise = (double)fn["color_noise"];
+    detail::readField(fn, "clutter_objects", clutter_objects);
+    detail::readField(fn, "max_perturbation_deg", max_perturbation_deg);
+    detail::readField(fn, "distance_jitter", distance_jitter);
+    detail::readField(fn, "margin", margin);
+    detail::readField(fn, "depth_noise", depth_noise);
+    detail::readField(fn, "depth_dropout", depth_dropout);
+    detail::readField(fn, "plane_offset", plane_offset);
+    detail::readField(fn, "color_noise", color_noise);
 }
 
 void SyntheticSceneParams::write(FileStorage& fs) const

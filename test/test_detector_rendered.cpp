@@ -480,7 +480,6 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
     // the defaults: depth samples scored at the refinement levels (doc/detector.md, "Depth")
     const DetectorParams on;
     ASSERT_GT(on.depth_samples, 0);
-    ASSERT_EQ(0, on.depth_coarse);
     cv::forestmod::Detector det(mods, rgbdPyramid(), on);
     std::vector<TemplateView> views;
     renderTemplates(ape, ViewSampler(sp), K, size, views);
@@ -612,9 +611,6 @@ TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
     EXPECT_THROW(det.setParams(bad), cv::Exception);
     bad = on;
     bad.depth_tolerance = 0;
-    EXPECT_THROW(det.setParams(bad), cv::Exception);
-    bad = on;
-    bad.depth_coarse = 3;
     EXPECT_THROW(det.setParams(bad), cv::Exception);
 }
 

@@ -220,3 +220,91 @@ TEST(Forestmod_Golden, match_lists_reproduce_the_recorded_ones)
 }
 
 }} // namespace
+
+namespace opencv_test { namespace {
+
+// Automatic training is thread-safe: 4 threads calling match() on one detector that has templates
+// but no trained index give the serial results.
+TEST(Forestmod_Detector, concurrent_match_on_an_untrained_detector)
+{
+    cv::forestmod::Detector serial, shared;
+    serial.load(goldenFile("ape_rgb.yml.gz"));
+    shared.load(goldenFile("ape_rgb.yml.gz"));
+    DetectorParams p = shared.getParams();
+    p.forest.num_trees = 2; // both detectors train at their first match
+    serial.setParams(p);
+    shared.setParams(p);
+    ASSERT_FALSE(shared.isTrained());
+    std::vector<Mat> frames;
+    for (const char* f : LMO_FRAMES)
+        frames.push_back(imread(cvtest::findDataFile(cv::format("lmo_mini/test/000002/rgb/%s.png",
+                                                                f))));
+    std::vector<std::vector<linemod::Match> > expected(frames.size());
+    for (size_t k = 0; k < frames.size(); ++k)
+        serial.match(std::vector<Mat>(2, frames[k]), 80.f, expected[k]);
+    const int threads = 4;
+    std::vector<std::vector<std::vector<linemod::Match> > > got(
+        threads, std::vector<std::vector<linemod::Match> >(frames.size()));
+    std::vector<std::thread> pool;
+    for (int t = 0; t < threads; ++t)
+        pool.push_back(std::thread([&, t]() {
+            for (size_t k = 0; k < frames.size(); ++k)
+                shared.match(std::vector<Mat>(2, frames[(k + t) % frames.size()]), 80.f,
+                             got[t][(k + t) % frames.size()]);
+        }));
+    for (std::thread& th : pool)
+        th.join();
+    EXPECT_TRUE(shared.isTrained());
+    for (int t = 0; t < threads; ++t)
+        for (size_t k = 0; k < frames.size(); ++k)
+        {
+            ASSERT_EQ(expected[k].size(), got[t][k].size()) << "thread " << t << ", frame " << k;
+            for (size_t i = 0; i < expected[k].size(); ++i)
+                EXPECT_TRUE(expected[k][i] == got[t][k][i]) << "thread " << t << ", frame " << k;
+        }
+}
+
+// match() refuses what it cannot search, naming the argument.
+TEST(Forestmod_Detector, match_preconditions)
+{
+    cv::forestmod::Detector det;
+    det.load(goldenFile("ape_rgb.yml.gz"));
+    const Mat frame = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000224.png"));
+    std::vector<linemod::Match> m;
+    const float bad_thresholds[] = { -1.f, 100.5f, std::numeric_limits<float>::quiet_NaN() };
+    for (float t : bad_thresholds)
+    {
+        try
+        {
+            det.match(std::vector<Mat>(2, frame), t, m);
+            ADD_FAILURE() << "threshold " << t << " accepted";
+        }
+        catch (const cv::Exception& e)
+        {
+            EXPECT_NE(std::string::npos, e.err.find("threshold")) << e.err;
+        }
+    }
+    const Mat tiny(1, 1, CV_8UC3, Scalar::all(100));
+    try
+    {
+        det.match(std::vector<Mat>(2, tiny), 80.f, m);
+        ADD_FAILURE() << "a 1x1 image accepted";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(std::string::npos, e.err.find("at least")) << e.err;
+    }
+    det.match(std::vector<Mat>(2, frame(Rect(0, 0, 16, 16)).clone()), 80.f, m); // smallest size
+    // estimatePoses: a depth of another size than the matched frame is refused, not ignored
+    det.match(std::vector<Mat>(2, frame), 80.f, m);
+    std::vector<PoseMatch> pm;
+    det.match(std::vector<Mat>(2, frame), 80.f, pm);
+    ASSERT_FALSE(pm.empty());
+    const Mat small_depth(40, 40, CV_16UC1, Scalar(800));
+    pm.resize(1);
+    pm[0].x = pm[0].box.x = 500;
+    pm[0].y = pm[0].box.y = 400;
+    EXPECT_THROW(det.estimatePoses(small_depth, goldenK(), pm), cv::Exception);
+}
+
+}} // namespace

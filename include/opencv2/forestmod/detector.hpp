@@ -8,7 +8,6 @@
 #include "opencv2/core.hpp"
 #include "opencv2/rgbd/linemod.hpp"
 #include "opencv2/forestmod/forest.hpp"
-#include "opencv2/forestmod/render.hpp"
 #include "opencv2/forestmod/pose.hpp"
 
 #include <functional>
@@ -16,174 +15,86 @@
 namespace cv {
 namespace forestmod {
 
+class Mesh;
+struct ViewSampler;
+namespace detail {
+struct DetectorImpl;
+}
+
 //! @addtogroup forestmod_detector
 //! @{
 
-/** @brief Parameters of forestmod::Detector. FileStorage keys are the field names. */
+/** @brief Parameters of forestmod::Detector, grouped by the stage that reads them. FileStorage
+keys are the field names. The measurements behind the defaults: doc/detector.md. */
 struct CV_EXPORTS_W_SIMPLE DetectorParams
 {
     CV_WRAP DetectorParams();
 
-    /** The template forest of every search group (paper: 1 or 5 trees, depth 8 for one object,
-    9 for several). When max_depth is 0 it is chosen at train() per search group (see
-    auto_depth_leaf_samples).
-    Differences from ForestParams() (measured with samples/forestmod_detector_bench.cpp on
-    rendered LM-O scenes, doc/detector.md "Search"): rejector_coverage 0.5 and rejector_dims 64
-    reject about a point more than 0.8 / 32 at the same hits. */
+    // ---- search index (train()): search groups, descriptor windows, forests ----
+    /** The forest of every search group (paper: 1 or 5 trees, depth 8 for one object, 9 for
+    several). Defaults differ from ForestParams(): max_depth 0 (automatic, see
+    auto_depth_leaf_samples), rejector_coverage 0.5, rejector_dims 64 (doc/detector.md, "Search"). */
     CV_PROP_RW ForestParams forest;
-    /** Use the forest to choose the candidate templates of a location. false: every template is a
-    candidate everywhere (exhaustive LINEMOD search, for comparison and tests). */
-    CV_PROP_RW bool use_forest;
-    /** Breadth-first preemptive validation (paper, "Fast Breadth-first Leaf Validation"). false:
-    every candidate is scored on all its features. */
-    CV_PROP_RW bool breadth_first;
-    /** Features per chunk in breadth-first validation. Default 16: a quarter of a 63-feature
-    modality, the trade-off the paper describes (larger chunks: more robust, slower). */
-    CV_PROP_RW int chunk_size;
-    /** alpha of the pass condition s > max(median, alpha), with s the accumulated score normalised
-    to [0, 1]. Paper: 0.5. */
-    CV_PROP_RW float alpha;
-    /** Breadth-first validation stops when this many candidates (or fewer) are left, and this
-    many best candidates of a location go on to pyramid refinement. Paper: 1 ("until there is
-    only one or no candidate left"); 2 gives the same hits (doc/detector.md). With depth at the
-    coarsest level (depth_coarse > 0) use 2: the coarse level then sometimes ranks the right view
-    a hair below a neighbouring one at every location (1 of 90 hits lost on the rendered scenes
-    with 1); the finer level decides when two go on. */
-    CV_PROP_RW int max_survivors;
-    /** Grid points per side of the descriptor window (paper: the template's sample locations r).
-    The window covers every template at the coarsest pyramid level. Default 12 (144 points per
-    modality); 10 and 16 gave the same result on the cases examined (doc/detector.md). */
+    /** Grid points per side of a group's descriptor window (paper: the sample locations r), over
+    its largest template at the coarsest level. Default 12. */
     CV_PROP_RW int grid_size;
-    /** Stride (pixels of the coarsest pyramid level) of the locations sent through the forest;
-    0: T / 2 of that level. The forest is trained with every template also shifted by up to half
-    the stride, so that a location that misses the object's anchor by that much still finds it
-    (doc/forest.md, "Misaligned windows"). Smaller: more locations, higher recall, slower. */
-    CV_PROP_RW int location_step;
-    /** Non-maximum suppression: a match is dropped when its box overlaps a better match (of any
-    template and class) by more than this intersection over union. <= 0 or >= 1: off (then the
-    output is, as in cv::linemod, every match above the threshold). Default 0.5. */
-    CV_PROP_RW float nms_iou;
-    /** Depth as a validation modality (paper: "we add depth value as another modality in the
-    validation stage to measure shape similarity"), with a DepthNormal modality: addTemplate
-    keeps up to this many depth samples per template (spread over the object eroded by 2 px).
-    At every pyramid refinement level (and, with depth_coarse, at the coarsest level) they are
-    scored with the features, 0..4 each like LINEMOD's response, as many of them as the
-    template has features per modality at that level: depth weighs like one more modality.
-    Relative depths, the shape and not the distance: the template's depths are first predicted
-    for the candidate's image position (turned onto its viewing ray with the template's pose and
-    K, the scene's principal point taken as the image centre), the offset is the median of
-    (scene - predicted) over the samples, and a sample scores 4 when predicted + offset lies
-    within depth_tolerance of the scene's depth range around it (+-T / 2 pixels of the level:
-    the depth counterpart of LINEMOD's spreading), 2 within 2 and 1 within 3 tolerances, else 0.
-    A sample without scene depth (hole, outside the image) scores 0, as a feature without a
-    value does; with fewer than a quarter of them with depth, all score 0. The samples also give
-    the initial pose (estimatePoses) and the depth range (depth_range_margin). Set to 0 after
-    templates were added, the term is off and the samples stay. Not used in the exhaustive mode
-    (plain LINEMOD). At most 256.
-    Where they are scored: depth_coarse (default: the pyramid refinement levels, not the
-    coarsest level). Default 63 (as many as LINEMOD's features per modality), measured
-    (doc/detector.md, "Depth"): on forestmod_eval --synthetic=5 the accuracy is that of 0 (ADD
-    95 % with 1 tree) and the time per frame about the same; a flat picture of the object on
-    the supporting plane loses points and falls under the threshold (test
-    Forestmod_Detector.depth_modality_separates_object_from_flat_picture). 0: off. */
-    CV_PROP_RW int depth_samples;
-    /** Tolerance (mm) of the depth samples' score. Default 5: about 3 sigma of Kinect-class
-    noise at 1 m (1.5 mm, SyntheticSceneParams::depth_noise); a candidate's position error is
-    absorbed by the depth range, not by the tolerance. With 10 the pictures of shallow views
-    pass (the ape's relief: half its pixels within 5-8 mm of its median depth) and near-ties
-    between views are decided less well (doc/detector.md, "Depth"). */
-    CV_PROP_RW int depth_tolerance;
-    /** Flat-window rejection (paper: the rejectors remove "textureless background"): a location
-    leaves before the forest when its window holds fewer labelled values (plain quantized, all
-    modalities, at the descriptor's grid points) than min_window_labels times the fewest any
-    training template (sample) has. The object's own window holds at least its template's labels
-    (minus occlusion), so values well under 1 keep recall. 0: off. Default 0.5, measured
-    (doc/detector.md): it removes 0-4 % of the locations, all of which the forest rejects as
-    well, before the forest reads them, and costs no hit. */
-    CV_PROP_RW float min_window_labels;
-    /** Out-of-depth-range rejection (paper: "rejected due to out-of-depth-range"), with a
-    DepthNormal modality: a location leaves before the forest when the scene depth is known at
-    some of the window's central grid points and none of them lies within the templates' depth
-    range (their depth samples, so depth_samples > 0 is needed) widened by this margin (mm).
-    0: off. Default 0: on the rendered scenes (supporting plane 100 mm behind the object) a
-    50 mm margin rejects nothing; useful on real scenes with far backgrounds. */
-    CV_PROP_RW int depth_range_margin;
-    /** The forest's descriptors (of the templates at training and of the scene's windows) take
-    at each grid point the dominant label of a dominant_window x dominant_window neighbourhood
-    of the coarsest level's plain quantized image (on the object mask for a template): one label
-    per point as the forest needs (doc/forest.md: spread values mislead it), but tolerant to a
-    misalignment or scale change of about a pixel. The shifted training samples of each
-    template (location_step) are then taken in strides of dominant_window - 1 pixels. 1: the
-    plain label, every shift. Default 3, measured (doc/detector.md, "Search"): with 1, a view
-    between two coarse templates (15 % scale, 20 degrees) is rejected everywhere; with 3 and a
-    stride of 2 (9 instead of 25 samples per template) the rendered scenes keep every hit with
-    fewer candidates and more rejection. */
+    /** Descriptors read the dominant label of a dominant_window^2 neighbourhood of the coarsest
+    quantized image, tolerant to a pixel of misalignment (doc/detector.md, "Search"). 1: the plain
+    label. Default 3. */
     CV_PROP_RW int dominant_window;
-    /** Search groups (doc/detector.md, "Several objects in one detector"): the templates (with
-    group_templates; else the classes, by their largest template) are sorted by their size at
-    the coarsest level and grouped greedily; a group takes the next one while its size is at
-    most group_size_ratio times the group's smallest. Each group has its own descriptor window (a grid over its own largest
-    template), flat-window limit and forest; a location leaves when every group rejects it, its
-    candidates are the union of the groups' leaves. With one window over the largest object the
-    small objects have few on-mask grid points, their templates spread over hundreds of leaves
-    and the rejectors accept almost everything. 0: no size limit (with max_group_classes 0: one
-    window and one forest for all classes, the behaviour before groups; model files written
-    before groups load that way). Default 1.3, measured on 8 LM-O objects (doc/detector.md):
-    3 groups, 74 % of the locations rejected (one window: 1 %) at the same hits; one group per
-    class (max_group_classes = 1) rejects as much but traverses 8 forests. */
+    /** Templates are sorted by size at the coarsest level and grouped while a group's largest is
+    at most this times its smallest; each group has its own window and forest (doc/detector.md,
+    "Search groups"). 0: one group. Default 1.3. */
     CV_PROP_RW float group_size_ratio;
-    /** At most this many classes per search group (0: no limit). 1: one window and one forest
-    per class. Default 0 (groups by size only). */
-    CV_PROP_RW int max_group_classes;
-    /** Automatic forest depth (forest.max_depth = 0), per search group:
-    max(8, ceil(log2(samples / auto_depth_leaf_samples))) + ceil(log2(classes)), with samples =
-    the group's templates x their shifted training samples and classes = the detector's classes.
-    The first term follows the number of samples (doc/forest.md: depth must grow with them); the
-    second generalises the paper's 8 for one object / 9 for several: a location leaves only when
-    every group rejects it, so each group must accept less background the more classes there
-    are. Default 8, measured with forestmod_eval --synthetic=5 (rendered RGB-D scenes, 8 LM-O
-    objects, 260 templates each; doc/detector.md "Automatic depth"): 8 gives ADD 95 % with 1 tree
-    and 97.5 % with 5 (depth 9 for one object), 2 gives 82.5 / 95 % (depth 11) at 1.3x the speed,
-    0 (the paper's 8 / 9) 92.5 / 97.5 % at 0.85x the speed, and with all 8 objects in one model
-    8 runs 2.3x faster than the paper's rule (which rejects nothing there). 0: the paper's 8 / 9. */
-    CV_PROP_RW float auto_depth_leaf_samples;
-    /** Colourless classes (most of their templates have no hue feature: white, grey, black
-    objects) get search groups of their own whose forests read the ColorHue plane with "no
-    reliable hue" as a label of its own (the 8 hue bins merged into 7, "grey" the 8th; the
-    validation keeps the plain hue): on a white object the missing hue becomes evidence the
-    rejectors can test, where before its descriptor had labels only at its silhouette
-    (doc/detector.md, "Colourless objects"). Templates and scene alike; the flat-window test
-    ignores the grey label; coloured classes are unchanged. Default false, measured: LM-O can
-    with gradient + hue on rendered scenes 9.3 % -> 64.8 % of the locations rejected at 10/10
-    hits (coloured objects identical), but on the real LM-O frames (RGB only) 5 trees reject
-    99.6 % and find the can in 0 of 10 frames instead of 3 (the real can shows some hue where
-    the rendered one is grey). Model files without this key load with false. */
-    CV_PROP_RW bool grey_hue_label;
-    /** How the depth samples (depth_samples) take part at the coarsest pyramid level, where
-    the forest and breadth-first validation work. 0: not there; they are scored at every finer
-    level of the pyramid refinement, where a match's position is known to +-T / 2 pixels, and
-    decide there whether it passes the threshold and how it ranks. 1: also in the full score of
-    the breadth-first survivors at the coarsest level. 2: also in every breadth-first chunk (the
-    median rule). At each level a template scores as many samples as it has features per
-    modality there (depth weighs like one more modality). Default 0, measured with
-    forestmod_eval --synthetic=5 (doc/detector.md, "Depth"): at the coarsest level the samples
-    are read +-S / 2 pixels (8 at level 0) from where the object may be, so the right view of a
-    thin or steep object scores only 70-80 % there and, under LINEMOD's coarse threshold (90 %
-    of the raw score for threshold 80), is lost: 1 tree ADD 95 % with 0, 90 % with 1, 82.5 %
-    with 2, which also doubles the validation time (every candidate pays for its depth offset
-    before its first chunk). */
-    CV_PROP_RW int depth_coarse;
-    /** Search groups of templates, not of classes: the templates (of all classes) are sorted by
-    their size at the coarsest level and grouped by group_size_ratio as classes are otherwise,
-    so the views of one object at different distances (or a long object seen end-on and
-    side-on) get windows and forests of their own; a group's classes are the classes of its
-    templates, and max_group_classes limits them. false: a class's templates all go to one
-    group. Default true, measured (doc/detector.md, "Search groups of templates"): the can with
-    templates at 700 and 1100 mm (forestmod_detector_bench --objects=5 --radii=700,1100) was
-    rejected 14 % with class groups; one window over both scales leaves the far views few
-    on-mask grid points, so the rejectors accept background. Model files without this key
-    load with false. */
+    /** Search groups of templates (true) or of whole classes (false: model files written before
+    template groups load this way). Default true (doc/detector.md, "Search groups"). */
     CV_PROP_RW bool group_templates;
+    /** Automatic forest depth when forest.max_depth is 0: max(8, ceil(log2(samples / this))) +
+    ceil(log2(classes)), at most log2(samples) + 1 (doc/detector.md, "Automatic depth"). 0: the
+    paper's 8 / 9. Default 8. */
+    CV_PROP_RW float auto_depth_leaf_samples;
+
+    // ---- scan: the locations of the coarsest level through the forests ----
+    /** Use the forests. false: every template is a candidate everywhere (exhaustive LINEMOD, for
+    comparison). Default true. */
+    CV_PROP_RW bool use_forest;
+    /** Stride (coarsest-level pixels) of the locations; 0: T / 2 of that level. The forest is
+    trained with every template shifted by up to half of it (doc/forest.md). Default 0. */
+    CV_PROP_RW int location_step;
+    /** A location leaves when its window holds fewer labelled values than this times the fewest
+    of any training template (paper: "textureless background"). 0: off. Default 0.5. */
+    CV_PROP_RW float min_window_labels;
+    /** With depth: a location leaves when the scene depth around it lies outside the templates'
+    depth range widened by this margin (mm; paper: "out-of-depth-range"). 0: off. Default 0. */
+    CV_PROP_RW int depth_range_margin;
+
+    // ---- validation (paper: "Fast Breadth-first Leaf Validation") ----
+    /** Breadth-first preemptive validation; false: every candidate scored on all its features.
+    Default true. */
+    CV_PROP_RW bool breadth_first;
+    /** Features per chunk. Default 16 (a quarter of a 63-feature modality). */
+    CV_PROP_RW int chunk_size;
+    /** alpha of the pass condition s > max(median, alpha). Paper and default: 0.5. */
+    CV_PROP_RW float alpha;
+    /** Validation stops at this many candidates, which go on to pyramid refinement. Paper and
+    default: 1. */
+    CV_PROP_RW int max_survivors;
+
+    // ---- depth modality (paper: depth "as another modality in the validation stage") ----
+    /** With a DepthNormal modality, addTemplate keeps up to this many depth samples per template;
+    they are scored at every pyramid refinement level like the features of one more modality
+    (relative depths, 0..4 each), give the initial pose and the depth range. 0: off. At most 256.
+    Default 63 (doc/detector.md, "Depth"). */
+    CV_PROP_RW int depth_samples;
+    /** Tolerance (mm) of a depth sample's full score. Default 5 (3 sigma of Kinect-class noise at
+    1 m). */
+    CV_PROP_RW int depth_tolerance;
+
+    // ---- non-maximum suppression ----
+    /** A match is dropped when its box overlaps a better match (any template and class) by more
+    than this intersection over union. <= 0 or >= 1: off (every match above the threshold, as
+    cv::linemod). Default 0.5. */
+    CV_PROP_RW float nms_iou;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
@@ -300,7 +211,9 @@ What it adds: the forest and its background rejectors choose the candidate templ
 location of the coarsest pyramid level; the candidates are validated breadth-first; survivors are
 refined up the pyramid as in LINEMOD. Templates may carry their pose (R, t, K); match() can return
 PoseMatch with it. The forest is trained by train(), or automatically by the first match() after
-templates changed (train() is not thread-safe; match() is const and thread-safe once trained).
+templates changed. match(), detect() and estimatePoses() are const and may be called from several
+threads at once (the automatic training runs once, under a lock); adding templates, setParams(),
+train(), read and load must not run concurrently with them.
 */
 class CV_EXPORTS_W Detector : public cv::linemod::Detector
 {
@@ -417,17 +330,8 @@ public:
     modality raises cv::Exception. */
     CV_WRAP void load(const String& filename);
 
-    struct Impl;
-
 private:
-    // match() with stats; nms = false returns the matches before non-maximum suppression
-    // (detect() picks a pose among the overlapping ones)
-    void matchImpl(const std::vector<Mat>& sources, float threshold,
-                   std::vector<cv::linemod::Match>& matches,
-                   const std::vector<String>& class_ids, OutputArrayOfArrays quantized_images,
-                   const std::vector<Mat>& masks, DetectionStats* stats, bool nms) const;
-
-    Ptr<Impl> impl_;
+    Ptr<detail::DetectorImpl> impl_;
 };
 
 /** @brief Color gradient + hue, T = {5, 8} (LINEMOD's getDefaultLINE plus the paper's hue).

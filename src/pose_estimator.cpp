@@ -1,0 +1,300 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// What cv::linemod lacks: a 6-DoF pose per match. Initial pose from the matched template's label
+// and the match location (+ scene depth), ICP refinement and the depth check with depth, edge
+// alignment without (pose.cpp, icp.cpp, pose_edges.cpp).
+
+#include "precomp.hpp"
+#include "params_io.hpp"
+#include "pose_estimator.hpp"
+
+namespace cv {
+namespace forestmod {
+
+PoseParams::PoseParams()
+    : max_per_class(3), icp(true), icp_passes(2), depth_check_tolerance(0.05),
+      min_depth_agreement(0.5), rgb_refine(true), rgb_hypotheses(8)
+{
+}
+
+void PoseParams::read(const FileNode& fn)
+{
+    detail::readField(fn, "max_per_class", max_per_class);
+    detail::readField(fn, "icp", icp);
+    detail::readField(fn, "icp_passes", icp_passes);
+    if (!fn["icp_params"].empty())
+        icp_params.read(fn["icp_params"]);
+    detail::readField(fn, "depth_check_tolerance", depth_check_tolerance);
+    detail::readField(fn, "min_depth_agreement", min_depth_agreement);
+    detail::readField(fn, "rgb_refine", rgb_refine);
+    if (!fn["edge_params"].empty())
+        edge_params.read(fn["edge_params"]);
+    detail::readField(fn, "rgb_hypotheses", rgb_hypotheses);
+}
+
+void PoseParams::write(FileStorage& fs) const
+{
+    fs << "max_per_class" << max_per_class << "icp" << (int)icp << "icp_passes" << icp_passes;
+    fs << "icp_params" << "{";
+    icp_params.write(fs);
+    fs << "}";
+    fs << "depth_check_tolerance" << depth_check_tolerance << "min_depth_agreement"
+       << min_depth_agreement << "rgb_refine" << (int)rgb_refine;
+    fs << "edge_params" << "{";
+    edge_params.write(fs);
+    fs << "}";
+    fs << "rgb_hypotheses" << rgb_hypotheses;
+}
+
+namespace detail {
+
+PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids,
+                      const TemplateStore& store)
+{
+    PoseMatch pm(m);
+    const cv::linemod::Template& t0 = pyramids.find(m.class_id)->second[m.template_id][0];
+    pm.box = Rect(m.x, m.y, t0.width, t0.height);
+    pm.pose = store.get(m.class_id, m.template_id).pose;
+    return pm;
+}
+
+void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
+{
+    mesh.validate();
+    AutoLock lock(mutex_);
+    meshes_[class_id] = mesh;
+    diameters_[class_id] = mesh.diameter();
+    handles_.erase(class_id); // uploaded again on the next use
+}
+
+bool PoseEstimator::hasMesh(const String& class_id) const
+{
+    AutoLock lock(mutex_);
+    return meshes_.count(class_id) > 0;
+}
+
+// The renderer handle of a class's mesh for images of `size` (-1 without a mesh); the renderer is
+// made again when the size changes. Call with mutex_ held.
+int PoseEstimator::meshHandle(const String& class_id, Size size)
+{
+    std::map<String, Mesh>::const_iterator mit = meshes_.find(class_id);
+    if (mit == meshes_.end())
+        return -1;
+    if (renderer_.empty() || renderer_->size() != size)
+    {
+        renderer_ = Renderer::create(size);
+        handles_.clear();
+    }
+    std::map<String, int>::iterator hit = handles_.find(class_id);
+    if (hit == handles_.end())
+        hit = handles_.insert(std::make_pair(class_id, renderer_->addMesh(mit->second))).first;
+    return hit->second;
+}
+
+static void checkPoseInputs(const Mat& depth, const Matx33d& K, const PoseParams& params,
+                            const Mat& color, const std::vector<PoseMatch>& matches)
+{
+    CV_CheckGT(params.icp_passes, 0, "PoseParams: icp_passes must be positive");
+    CV_CheckGE(params.max_per_class, 0, "PoseParams: max_per_class must be >= 0");
+    CV_CheckGE(params.rgb_hypotheses, 1, "PoseParams: rgb_hypotheses must be >= 1");
+    CV_CheckGT(params.depth_check_tolerance, 0.0, "PoseParams: depth_check_tolerance must be > 0");
+    if (!depth.empty() && depth.type() != CV_16UC1)
+        CV_Error_(Error::StsUnsupportedFormat, ("forestmod::Detector::estimatePoses: depth must "
+                                                "be CV_16UC1 in mm, got %s",
+                                                typeToString(depth.type()).c_str()));
+    if (!(K(0, 0) > 0) || !(K(1, 1) > 0))
+        CV_Error(Error::StsBadArg, "forestmod::Detector::estimatePoses: K has no focal length");
+    if (!color.empty() && color.type() != CV_8UC3)
+        CV_Error(Error::StsUnsupportedFormat, "forestmod::Detector::estimatePoses: color must be "
+                                              "a CV_8UC3 BGR image");
+    if (!depth.empty() && !color.empty() && depth.size() != color.size())
+        CV_Error_(Error::StsUnmatchedSizes, ("forestmod::Detector::estimatePoses: depth is %dx%d, "
+                                             "color %dx%d: both must be the matched frame's size",
+                                             depth.cols, depth.rows, color.cols, color.rows));
+    const Mat& frame = depth.empty() ? color : depth;
+    for (size_t i = 0; i < matches.size() && !frame.empty(); ++i)
+        if ((matches[i].box & Rect(0, 0, frame.cols, frame.rows)).area() <= 0)
+            CV_Error_(Error::StsUnmatchedSizes,
+                      ("forestmod::Detector::estimatePoses: match %d at (%d, %d) lies outside the "
+                       "%s image (%dx%d): depth and color must be the matched frame's size",
+                       (int)i, matches[i].x, matches[i].y, depth.empty() ? "color" : "depth",
+                       frame.cols, frame.rows));
+}
+
+// The part of the colour image whose edges the refinement of the first max_per_class matches per
+// class reads.
+static Rect edgeRoi(const std::vector<PoseMatch>& matches, const PoseParams& params,
+                    Size image)
+{
+    Rect roi;
+    std::map<String, int> count;
+    const int margin = cvCeil(3 * params.edge_params.max_distance);
+    for (size_t i = 0; i < matches.size(); ++i)
+        if (matches[i].pose.valid && count[matches[i].class_id]++ < params.max_per_class)
+        {
+            const Rect b(matches[i].x - margin, matches[i].y - margin,
+                         matches[i].pose.box.width + 2 * margin,
+                         matches[i].pose.box.height + 2 * margin);
+            roi = roi.area() > 0 ? (roi | b) : b;
+        }
+    return roi & Rect(0, 0, image.width, image.height);
+}
+
+// Initial pose of a match: the template's rotation corrected for the off-axis ray, at the
+// template's distance or at the one the scene depth implies under its depth samples.
+static void initialPoseOf(const TemplateStore& store, const Mat& depth, const Matx33d& K,
+                          PoseMatch& m)
+{
+    const TemplatePose& tp = m.pose;
+    const Vec3d pt = tp.K * tp.t;
+    const Point2d template_px(pt[0] / pt[2], pt[1] / pt[2]);
+    const Point2d scene_px = Point2d(m.x, m.y) + (template_px - Point2d(tp.box.tl()));
+    double z = 0;
+    const TemplateRecord* rec = store.find(m.class_id, m.template_id);
+    if (!depth.empty() && rec && !rec->depth.empty())
+    {
+        std::vector<Point> pos;
+        std::vector<float> tz;
+        for (size_t k = 0; k < rec->depth.size(); ++k)
+        {
+            pos.push_back(Point(m.x + rec->depth[k].x, m.y + rec->depth[k].y));
+            tz.push_back((float)rec->depth[k].z);
+        }
+        z = sceneDepthFromFeatures(depth, pos, tz, tp.t[2]);
+    }
+    initialPose(tp.R, tp.t, tp.K, template_px, K, scene_px, z, m.R, m.t);
+    m.has_pose = true;
+}
+
+bool PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
+                                    PoseMatch& m, bool& drop)
+{
+    AutoLock lock(mutex_);
+    const int handle = meshHandle(m.class_id, depth.size());
+    if (handle < 0)
+        return false;
+    m.icp = refinePose(*renderer_, handle, depth, K, m.R, m.t, params.icp_params,
+                       params.icp_passes);
+    if (m.icp.fitness > 0)
+    {
+        m.R = m.icp.R;
+        m.t = m.icp.t;
+        m.refined = true;
+    }
+    const double tol = params.depth_check_tolerance * diameters_[m.class_id];
+    m.depth_agreement = depthCheck(*renderer_, handle, depth, K, m.R, m.t, tol);
+    drop = m.depth_agreement < params.min_depth_agreement;
+    return true;
+}
+
+bool PoseEstimator::refineWithEdges(const Mat& color, const Rect& roi, EdgeMaps& edge_maps,
+                                    const Matx33d& K, const PoseParams& params, PoseMatch& m)
+{
+    AutoLock lock(mutex_);
+    const int handle = meshHandle(m.class_id, color.size());
+    if (handle < 0)
+        return false;
+    if (edge_maps.distance.empty())
+        computeEdgeMaps(color, edge_maps, params.edge_params, roi);
+    const EdgeRefineResult er = refinePoseEdges(*renderer_, handle, edge_maps, K, m.R, m.t,
+                                                params.edge_params);
+    if (er.points > 0)
+    {
+        m.R = er.R;
+        m.t = er.t;
+        m.refined = true;
+        m.edge_fit = er.inlier_ratio;
+    }
+    return true;
+}
+
+void PoseEstimator::estimate(const TemplateStore& store, const Mat& depth, const Matx33d& K,
+                             std::vector<PoseMatch>& matches, const PoseParams& params,
+                             const Mat& color)
+{
+    checkPoseInputs(depth, K, params, color, matches);
+    const bool edges = depth.empty() && params.rgb_refine && !color.empty();
+    const Rect roi = edges ? edgeRoi(matches, params, color.size()) : Rect();
+    EdgeMaps edge_maps; // of the colour image around the matches to refine, made on first use
+    std::map<String, int> refined_per_class;
+    std::vector<PoseMatch> kept;
+    for (size_t i = 0; i < matches.size(); ++i)
+    {
+        PoseMatch m = matches[i];
+        m.has_pose = m.refined = false;
+        m.depth_agreement = -1;
+        m.edge_fit = -1;
+        bool drop = false;
+        if (m.pose.valid)
+        {
+            initialPoseOf(store, depth, K, m);
+            int& done = refined_per_class[m.class_id];
+            // the first max_per_class matches of a class with a mesh are refined
+            if (done < params.max_per_class && !depth.empty() && params.icp)
+                done += refineWithDepth(depth, K, params, m, drop);
+            else if (done < params.max_per_class && edges)
+                done += refineWithEdges(color, roi, edge_maps, K, params, m);
+        }
+        if (!drop)
+            kept.push_back(m);
+    }
+    matches.swap(kept);
+}
+
+void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vector<PoseMatch>& all,
+                                    const std::vector<int>& leader, const Matx33d& K,
+                                    const PoseParams& params, const Mat& color,
+                                    std::vector<PoseMatch>& detections)
+{
+    // each detection's group: itself, then the matches of its class it suppressed
+    std::vector<int> group_of(all.size(), -1);
+    std::vector<std::vector<PoseMatch> > groups;
+    for (size_t i = 0; i < all.size(); ++i)
+    {
+        if (leader[i] < 0)
+        {
+            group_of[i] = (int)groups.size();
+            groups.push_back(std::vector<PoseMatch>(1, all[i]));
+            continue;
+        }
+        std::vector<PoseMatch>& g = groups[group_of[leader[i]]];
+        if (all[i].class_id == g[0].class_id && (int)g.size() < params.rgb_hypotheses)
+            g.push_back(all[i]);
+    }
+    detections.clear();
+    std::map<String, int> per_class;
+    PoseParams one = params;
+    one.max_per_class = params.rgb_hypotheses;
+    PoseParams plain = params;
+    plain.rgb_refine = false;
+    for (size_t g = 0; g < groups.size(); ++g)
+    {
+        std::vector<PoseMatch>& hyps = groups[g];
+        if (per_class[hyps[0].class_id]++ >= params.max_per_class)
+        {
+            hyps.resize(1);
+            estimate(store, Mat(), K, hyps, plain, Mat());
+            detections.push_back(hyps[0]);
+            continue;
+        }
+        estimate(store, Mat(), K, hyps, one, color);
+        size_t best = 0;
+        for (size_t h = 1; h < hyps.size(); ++h)
+            if (hyps[h].edge_fit > hyps[best].edge_fit)
+                best = h;
+        // the detection keeps its position, box and score (the ranking stays the matcher's);
+        // template, pose label and pose come from the chosen hypothesis
+        PoseMatch m = hyps[best];
+        m.x = hyps[0].x;
+        m.y = hyps[0].y;
+        m.similarity = hyps[0].similarity;
+        m.box = hyps[0].box;
+        detections.push_back(m);
+    }
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv

@@ -1,0 +1,63 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: what cv::linemod lacks, a 6-DoF pose per match. Owns the classes' meshes and the
+// renderer that refinement and checks draw them with.
+
+#ifndef OPENCV_FORESTMOD_POSE_ESTIMATOR_HPP
+#define OPENCV_FORESTMOD_POSE_ESTIMATOR_HPP
+
+#include "template_store.hpp"
+
+#include <map>
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+/** A match with its template's box and pose label. */
+PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids,
+                      const TemplateStore& store);
+
+class PoseEstimator
+{
+public:
+    void setMesh(const String& class_id, const Mesh& mesh);
+    bool hasMesh(const String& class_id) const;
+
+    /** Detector::estimatePoses: initial pose from the template's label (and the scene depth under
+    its depth samples), ICP with depth, edge alignment without; depth check and drop. */
+    void estimate(const TemplateStore& store, const Mat& depth, const Matx33d& K,
+                  std::vector<PoseMatch>& matches, const PoseParams& params,
+                  const Mat& color);
+
+    /** Detector::detect without depth: `all` are the matches before non-maximum suppression
+    (best first) and `leader` its result (nonMaximumSuppression). Each kept detection of the best
+    max_per_class per class takes the pose of the best edge fit among up to rgb_hypotheses
+    matches of its class that it suppressed (itself first); the others their template's pose. */
+    void chooseByEdgeFit(const TemplateStore& store, const std::vector<PoseMatch>& all,
+                         const std::vector<int>& leader, const Matx33d& K,
+                         const PoseParams& params, const Mat& color,
+                         std::vector<PoseMatch>& detections);
+
+private:
+    int meshHandle(const String& class_id, Size size);
+    // false when the class has no mesh (the match keeps its initial pose)
+    bool refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
+                         PoseMatch& m, bool& drop);
+    bool refineWithEdges(const Mat& color, const Rect& roi, EdgeMaps& edge_maps,
+                         const Matx33d& K, const PoseParams& params, PoseMatch& m);
+
+    std::map<String, Mesh> meshes_;
+    std::map<String, double> diameters_;
+    Ptr<Renderer> renderer_;              //!< of the last scene size
+    std::map<String, int> handles_;       //!< mesh handles in renderer_
+    mutable Mutex mutex_;                 //!< guards all of the above
+};
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif

@@ -1,0 +1,150 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Pyramid refinement (LINEMOD) and the exhaustive search.
+
+#include "precomp.hpp"
+#include "refine.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+// The best position of a template in the 16 x 16 cells of T pixels around (x, y) of level l; the
+// raw score and the feature count at that position.
+static Point bestPosition(const LevelMaps& lm, const TemplatePyramid& tp, int l, int x, int y,
+                          int& best, int& num_features)
+{
+    const int T = lm.T;
+    int best_r = -1, best_c = -1;
+    best = 0;
+    num_features = 0;
+    const int ox = (x / T - 8) * T, oy = (y / T - 8) * T;
+    for (int r = 0; r < 16; ++r)
+        for (int c = 0; c < 16; ++c)
+        {
+            const int s = similarityAll(lm, tp, l, Point(ox + c * T, oy + r * T), &num_features);
+            if (s > best)
+            {
+                best = s;
+                best_r = r;
+                best_c = c;
+            }
+        }
+    const int offset = T / 2 + (T % 2 - 1);
+    return Point((x / T - 8 + best_c) * T + offset, (y / T - 8 + best_r) * T + offset);
+}
+
+// One match up the pyramid; false when it falls under the threshold at some level. `depth`:
+// one context per level (null: no depth term), with the template's depth samples `dt`.
+static bool refineOne(const std::vector<LevelMaps>& levels, const TemplatePyramid& tp,
+                      float threshold, const DepthContext* depth, const DepthTemplate& dt,
+                      cv::linemod::Match& m)
+{
+    const int M = static_cast<int>(levels[0].response.size());
+    const int samples = depth && dt.samples ? (int)dt.samples->size() : 0;
+    for (int l = static_cast<int>(levels.size()) - 2; l >= 0; --l)
+    {
+        const LevelMaps& lm = levels[l];
+        const int border = 8 * lm.T;
+        const int max_x = lm.size.width - tp[l * M].width - border;
+        const int max_y = lm.size.height - tp[l * M].height - border;
+        const int x = std::min(std::max(m.x * 2 + 1, border), max_x);
+        const int y = std::min(std::max(m.y * 2 + 1, border), max_y);
+        int best = 0, num_features = 0;
+        const Point p = bestPosition(lm, tp, l, x, y, best, num_features);
+        m.x = p.x;
+        m.y = p.y;
+        const int ns = depthSamplesAtLevel(samples, num_features, M);
+        if (ns > 0)
+        {
+            best += depthSimilarity(depth[l], dt, Point(m.x << l, m.y << l), ns);
+            num_features += ns;
+        }
+        m.similarity = num_features ? (best * 100.f) / (4 * num_features) : 0.f;
+        if (m.similarity < threshold)
+            return false;
+    }
+    return true;
+}
+
+void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                   const TemplateStore& store, float threshold,
+                   std::vector<cv::linemod::Match>& matches)
+{
+    const bool use_depth = !scene.depth_ctx.empty();
+    std::vector<uchar> keep(matches.size(), 0);
+    parallel_for_(Range(0, (int)matches.size()), [&](const Range& range) {
+        for (int k = range.start; k < range.end; ++k)
+        {
+            cv::linemod::Match& m = matches[k];
+            const TemplatePyramid& tp = pyramids.find(m.class_id)->second[m.template_id];
+            const DepthTemplate dt = use_depth ? depthTemplate(store.get(m.class_id,
+                                                                         m.template_id))
+                                               : DepthTemplate();
+            keep[k] = refineOne(scene.levels, tp, threshold,
+                                dt.samples ? &scene.depth_ctx[0] : 0, dt, m);
+        }
+    });
+    size_t n = 0;
+    for (size_t k = 0; k < matches.size(); ++k)
+        if (keep[k])
+            matches[n++] = matches[k];
+    matches.resize(n);
+}
+
+// Every position of one template on the coarsest level, then its refinement.
+static void searchTemplate(const ScenePyramid& scene, const TemplatePyramid& tp,
+                           const String& class_id, int id, float threshold,
+                           std::vector<cv::linemod::Match>& out)
+{
+    const LevelMaps& top = scene.coarsest();
+    const int L = scene.coarsestIndex();
+    const int M = static_cast<int>(top.response.size());
+    const int T = top.T;
+    const int offset = T / 2 + (T % 2 - 1);
+    const cv::linemod::Template& t = tp[L * M];
+    const int W = top.size.width / T, H = top.size.height / T;
+    const int span_x = W - ((t.width - 1) / T + 1);
+    const int span_y = H - ((t.height - 1) / T + 1);
+    const int nf = numFeatures(tp, L, M);
+    const int raw_thr = rawThreshold(threshold, nf);
+    for (int r = 0; r <= span_y; ++r)
+        for (int c = 0; c <= span_x; ++c)
+        {
+            const int raw = similarityAll(top, tp, L, Point(c * T, r * T));
+            if (raw > raw_thr)
+                out.push_back(cv::linemod::Match(c * T + offset, r * T + offset,
+                                                 (raw * 100.f) / (4 * nf) + 0.5f, class_id, id));
+        }
+    size_t n = 0;
+    for (size_t k = 0; k < out.size(); ++k)
+        if (refineOne(scene.levels, tp, threshold, 0, DepthTemplate(), out[k]))
+            out[n++] = out[k];
+    out.resize(n);
+}
+
+void matchExhaustive(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                     const std::vector<String>& classes, float threshold,
+                     std::vector<cv::linemod::Match>& matches, MatchCounters& counters)
+{
+    for (size_t ci = 0; ci < classes.size(); ++ci)
+    {
+        const std::vector<TemplatePyramid>& tps = pyramids.find(classes[ci])->second;
+        std::vector<std::vector<cv::linemod::Match> > per(tps.size());
+        parallel_for_(Range(0, (int)tps.size()), [&](const Range& range) {
+            for (int id = range.start; id < range.end; ++id)
+                searchTemplate(scene, tps[id], classes[ci], id, threshold, per[id]);
+        });
+        for (size_t id = 0; id < per.size(); ++id)
+            matches.insert(matches.end(), per[id].begin(), per[id].end());
+    }
+    const LevelMaps& top = scene.coarsest();
+    counters.locations += (int64)(top.size.width / top.T) * (top.size.height / top.T);
+    counters.validated += counters.locations;
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv

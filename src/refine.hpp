@@ -1,0 +1,38 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: LINEMOD's pyramid refinement of coarse matches (with the depth samples scored at every
+// refinement level), and the exhaustive LINEMOD search (every template at every position: the
+// detector without its forest, for comparison and tests).
+
+#ifndef OPENCV_FORESTMOD_REFINE_HPP
+#define OPENCV_FORESTMOD_REFINE_HPP
+
+#include "scene_pyramid.hpp"
+#include "template_store.hpp"
+#include "match_stats.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+/** Refines coarse matches up the pyramid (LINEMOD's arithmetic); a match that falls under the
+threshold at some level is dropped. With the scene's depth contexts (ScenePyramid::depth_ctx
+non-empty), each template's depth samples join its score at every level. Keeps the order. */
+void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                   const TemplateStore& store, float threshold,
+                   std::vector<cv::linemod::Match>& matches);
+
+/** Exhaustive LINEMOD search of the given classes: every template at every position of the
+coarsest level where it fits, then refinement (without depth), class by class, template by
+template. */
+void matchExhaustive(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                     const std::vector<String>& classes, float threshold,
+                     std::vector<cv::linemod::Match>& matches, MatchCounters& counters);
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif

@@ -1,0 +1,47 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: the search (paper: "Detection"): every location of the coarsest level on a grid of
+// location_step pixels goes through the rejections before the forest (out of the templates' depth
+// range, flat window) and through every search group's forest (rejectors, splits, all trees);
+// the leaves' templates of the locations that stay are their candidates.
+
+#ifndef OPENCV_FORESTMOD_SCAN_HPP
+#define OPENCV_FORESTMOD_SCAN_HPP
+
+#include "search_index.hpp"
+#include "scene_pyramid.hpp"
+#include "match_stats.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+/** The candidates of the locations that reached validation, in row-major location order. */
+struct LocationCandidates
+{
+    int step;                      //!< the location grid's stride (coarsest level pixels)
+    std::vector<Point> location;   //!< (column, row) on the location grid
+    std::vector<int> begin;        //!< candidates of location i: rows[begin[i] .. begin[i + 1])
+    std::vector<int> rows;         //!< index rows (SearchIndex::rows), ascending per location
+    MatchCounters counters;
+    /** On request: the forest depth at which each location was rejected, -1 when it was not, -2
+    when its window was flat, -3 when out of depth range (DetectionStats::rejection_map). */
+    Mat rejection_map;
+
+    LocationCandidates() : step(1) {}
+    int size() const { return static_cast<int>(location.size()); }
+};
+
+/** Scans the coarsest level. row_allowed: per index row, whether its class was asked for;
+the depth-range test runs when the scene has depth and DetectorParams::depth_range_margin > 0. */
+void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
+                   const DetectorParams& params, const std::vector<uchar>& row_allowed,
+                   bool rejection_map, LocationCandidates& out);
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif

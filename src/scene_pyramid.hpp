@@ -1,0 +1,62 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: everything computed from a frame, once (paper: the scene's quantized images; LINEMOD
+// 2.3-2.4): per pyramid level and modality the quantized, spread and response maps; the forest's
+// label planes of the coarsest level; the depth contexts of the refinement levels. Every later
+// stage reads it in place.
+
+#ifndef OPENCV_FORESTMOD_SCENE_PYRAMID_HPP
+#define OPENCV_FORESTMOD_SCENE_PYRAMID_HPP
+
+#include "similarity.hpp"
+#include "depth_modality.hpp"
+
+#include <vector>
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+struct ScenePyramid
+{
+    std::vector<LevelMaps> levels;      //!< level 0 (finest) .. coarsest
+    /** The forest's view of the coarsest level: per modality the dominant labels of the plain
+    quantized image (DetectorParams::dominant_window), with a zero border of `border` pixels on
+    every side so that a window read never leaves the buffer. Empty without a forest. */
+    std::vector<Mat> planes;
+    std::vector<const uchar*> plane_ptr; //!< planes[m].ptr()
+    size_t plane_step;
+    int border;
+    /** Scene depth (CV_16UC1 mm) when the detector has a DepthNormal modality, else empty. */
+    Mat depth;
+    /** Depth contexts of the refinement levels (all but the coarsest) when depth is scored. */
+    std::vector<DepthContext> depth_ctx;
+
+    ScenePyramid() : plane_step(0), border(0) {}
+    const LevelMaps& coarsest() const { return levels.back(); }
+    int coarsestIndex() const { return static_cast<int>(levels.size()) - 1; }
+};
+
+/** The modalities' quantized images of every level (process, pyrDown, quantize), spread over
+T and turned into response maps; `quantized_images`, when needed, receives the quantized images
+as cv::linemod::Detector::match returns them. */
+void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
+                   const std::vector<int>& T_at_level, const std::vector<Mat>& sources,
+                   const std::vector<Mat>& masks, ScenePyramid& scene,
+                   OutputArrayOfArrays quantized_images);
+
+/** The forest's label planes of the coarsest level, bordered by `border` zero pixels. */
+void forestPlanes(int dominant_window, int border, ScenePyramid& scene);
+
+/** Depth contexts of the refinement levels: at level l a match's position is known to +-T_l / 2
+pixels, so the scene's depth range is taken over squares of that radius (level-0 pixels). */
+void depthContexts(const Mat& depth, const std::vector<int>& T_at_level, int tolerance,
+                   ScenePyramid& scene);
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif

@@ -1,0 +1,77 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: the search index (paper: "Training"): the templates in search groups of similar size,
+// each with its descriptor window (a grid over its largest template at the coarsest level), the
+// templates' descriptors under that window, and a trained template forest with a background
+// rejector in every node. Built by train(), or from a model file's forests by load().
+
+#ifndef OPENCV_FORESTMOD_SEARCH_INDEX_HPP
+#define OPENCV_FORESTMOD_SEARCH_INDEX_HPP
+
+#include "template_store.hpp"
+#include "opencv2/forestmod/forest.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+struct TemplateRef
+{
+    String class_id;
+    int template_id;
+};
+
+/** One search group: templates of similar size sharing a descriptor window and a forest. */
+struct SearchGroup
+{
+    std::vector<String> classes;          //!< the classes of its templates, smallest first
+    std::vector<int> rows;                //!< forest row (template id of the forest) -> index row
+    std::vector<Point> grid;              //!< descriptor grid offsets from the anchor (coarsest level)
+    std::vector<int> plane_of;            //!< per descriptor dimension: its modality
+    std::vector<Point> dim_offset;        //!< per descriptor dimension: its grid offset
+    int min_labels;                       //!< fewest labelled values of a training descriptor
+    Ptr<TemplateForest> forest;
+
+    SearchGroup() : min_labels(0) {}
+};
+
+struct SearchIndex
+{
+    std::vector<TemplateRef> rows;        //!< all templates, class by class
+    std::vector<SearchGroup> groups;      //!< windows and forests (DetectorParams::group_size_ratio)
+    int z_min, z_max;                     //!< depth range (mm) of the templates' depth samples
+    std::vector<Point> depth_probe;       //!< offsets (coarsest level) of the depth-range probes
+    int max_extent;                       //!< largest template side (level 0 pixels)
+    bool trained;
+
+    SearchIndex() : z_min(0), z_max(0), max_extent(0), trained(false) {}
+
+    /** Groups, windows, descriptors and forests of the templates (train()). */
+    void train(const ClassPyramids& pyramids, const TemplateStore& store,
+               const DetectorParams& params, int M, int L, int T);
+    /** Groups and windows of the templates with forests read from a model file (load()); raises
+    StsParseError naming `filename` when they do not fit the templates. */
+    void attach(const ClassPyramids& pyramids, const TemplateStore& store,
+                const DetectorParams& params, int M, int L, int T,
+                const std::vector<Ptr<TemplateForest> >& forests, const String& filename);
+    void clear();
+};
+
+/** Stride (coarsest level pixels) of the forest's locations: location_step, or T / 2 when 0. */
+static inline int locationStep(const DetectorParams& p, int T)
+{
+    return p.location_step > 0 ? p.location_step : std::max(1, T / 2);
+}
+
+/** Dominant label of each k x k neighbourhood (only where mask, if given, is set): a single-label
+image that tolerates a misalignment of about k / 2 pixels, for the forest's descriptors of the
+templates and the scene alike (doc/detector.md, "Search"). k <= 1: a copy. */
+void dominantLabels(const Mat& quantized, const Mat& mask, int k, Mat& dst);
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif
