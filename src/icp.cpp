@@ -253,11 +253,12 @@ static double median(std::vector<double>& v)
 
 } // namespace
 
-ICPResult refineICP(const std::vector<Point3f>& model_points, InputArray scene_depth,
-                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0, const ICPParams& params)
+// The inputs of refineICP checked; returns R0 projected onto the closest rotation (ground-truth
+// rotations of some datasets, LM-O, are orthonormal to a few 1e-3 only).
+static Matx33d checkICPInputs(const std::vector<Point3f>& model_points, const Mat& depth,
+                              const Matx33d& K, const Matx33d& R0, const ICPParams& params)
 {
     checkParams(params);
-    Mat depth = scene_depth.getMat();
     if (depth.empty())
         CV_Error(Error::StsBadArg, "refineICP: scene_depth is empty");
     if (depth.type() != CV_16UC1)
@@ -271,130 +272,167 @@ ICPResult refineICP(const std::vector<Point3f>& model_points, InputArray scene_d
         CV_Error_(Error::StsBadArg,
                   ("refineICP: %d model points, at least min_correspondences = %d are needed",
                    (int)model_points.size(), params.min_correspondences));
-    Matx33d R0n = R0;
-    {
-        // ground-truth rotations of some datasets (LM-O) are orthonormal to a few 1e-3 only:
-        // accept small deviations and project onto the closest rotation
-        Mat Rm(R0);
-        if (!(std::abs(determinant(Rm) - 1.0) < 0.1
-              && norm(Rm * Rm.t(), Mat::eye(3, 3, CV_64F)) < 0.1))
-            CV_Error(Error::StsBadArg, "refineICP: R0 is not a rotation matrix");
-        SVD svd(Rm);
-        Mat Rp = svd.u * svd.vt;
-        Rp.copyTo(Mat(3, 3, CV_64F, R0n.val));
-    }
+    Mat Rm(R0);
+    if (!(std::abs(determinant(Rm) - 1.0) < 0.1 && norm(Rm * Rm.t(), Mat::eye(3, 3, CV_64F)) < 0.1))
+        CV_Error(Error::StsBadArg, "refineICP: R0 is not a rotation matrix");
+    SVD svd(Rm);
+    Mat Rp = svd.u * svd.vt;
+    Matx33d R0n;
+    Rp.copyTo(Mat(3, 3, CV_64F, R0n.val));
+    return R0n;
+}
 
-    // deterministic, even subsampling of the model points
-    std::vector<Vec3d> pts;
+// Deterministic, even subsampling of the model points.
+static std::vector<Vec3d> subsample(const std::vector<Point3f>& model_points, int max_points)
+{
     const size_t n_all = model_points.size();
-    const size_t n = (params.max_points > 0 && n_all > (size_t)params.max_points)
-                         ? (size_t)params.max_points
-                         : n_all;
+    const size_t n = (max_points > 0 && n_all > (size_t)max_points) ? (size_t)max_points : n_all;
+    std::vector<Vec3d> pts;
     pts.reserve(n);
     for (size_t i = 0; i < n; ++i)
     {
         const Point3f& p = model_points[n == n_all ? i : (size_t)((double)i * n_all / n)];
         pts.push_back(Vec3d(p.x, p.y, p.z));
     }
+    return pts;
+}
 
+static void correspondences(SceneCloud& cloud, const std::vector<Vec3d>& pts,
+                            const Matx33d& R, const Vec3d& t, double gate,
+                            const ICPParams& params, std::vector<Correspondence>& corr)
+{
+    corr.clear();
+    for (size_t i = 0; i < pts.size(); ++i)
+    {
+        Correspondence c;
+        c.q = R * pts[i] + t;
+        Point px;
+        double d2;
+        if (!associate(cloud, c.q, params.search_radius, gate, px, c.s, d2))
+            continue;
+        Vec3f nf;
+        if (!cloud.normal(px.x, px.y, nf))
+            continue;
+        c.n = Vec3d(nf[0], nf[1], nf[2]);
+        c.r = c.n.dot(c.q - c.s);
+        c.d = std::sqrt(d2);
+        c.g = std::max(std::abs(c.n.dot(c.s)) / cv::norm(c.s), params.min_ray_cosine);
+        corr.push_back(c);
+    }
+}
+
+// One robust Gauss-Newton step of point-to-plane ICP, linearised at the centroid of the moved
+// model points (a well-conditioned 6x6 system): rotation omega and translation dt about `centre`.
+// False when too few correspondences pass the kernel or the system is singular.
+static bool icpStep(const std::vector<Correspondence>& corr, double gate, const ICPParams& params,
+                    std::vector<double>& tmp, Vec3d& centre, Vec3d& omega, Vec3d& dt)
+{
+    // robust scale of the residuals, each divided by the share g of the axial sensor noise that
+    // reaches it (noise-aware weighting: weight 1 / g^2)
+    tmp.clear();
+    for (size_t i = 0; i < corr.size(); ++i)
+        tmp.push_back(std::abs(corr[i].r) / corr[i].g);
+    const double sigma_min = params.min_correspondence_distance / params.gate_sigma_factor;
+    const double sigma = std::max(sigma_min, 1.4826 * median(tmp));
+    // coarse phase (the gate is still shrinking): a tight kernel, so that a coherent group of
+    // outliers (an occluder in front of the object) cannot pull the pose while the inliers'
+    // residuals are still large; fine phase: the efficient kernel
+    const bool coarse = gate > params.min_correspondence_distance * 1.0001;
+    const double cutoff = (coarse ? params.tukey_c_coarse : params.tukey_c) * sigma;
+    centre = Vec3d(0, 0, 0);
+    for (size_t i = 0; i < corr.size(); ++i)
+        centre += corr[i].q;
+    centre *= 1.0 / (double)corr.size();
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+    int used = 0;
+    for (size_t i = 0; i < corr.size(); ++i)
+    {
+        const Correspondence& c = corr[i];
+        const double u = c.r / (c.g * cutoff);
+        if (std::abs(u) >= 1)
+            continue;
+        const double w = (1 - u * u) * (1 - u * u) / (c.g * c.g);
+        const Vec3d a = (c.q - centre).cross(c.n);
+        Eigen::Matrix<double, 6, 1> J;
+        J << a[0], a[1], a[2], c.n[0], c.n[1], c.n[2];
+        A.selfadjointView<Eigen::Upper>().rankUpdate(J, w);
+        b -= w * c.r * J;
+        ++used;
+    }
+    if (used < params.min_correspondences)
+        return false;
+    const Eigen::Matrix<double, 6, 6> Af = A.selfadjointView<Eigen::Upper>();
+    Eigen::Matrix<double, 6, 1> x = Af.ldlt().solve(b);
+    if (!x.allFinite())
+        return false;
+    // trust region on the rotation: the rotation of a roundish object is weakly constrained by
+    // point-to-plane residuals, and a full Gauss-Newton step taken while outliers are still in
+    // can turn it far away. Shorten the rotation, re-solve the translation for it.
+    const double wn = x.head<3>().norm();
+    if (wn > params.max_rotation_step)
+    {
+        x.head<3>() *= params.max_rotation_step / wn;
+        const Eigen::Vector3d bt = b.tail<3>() - Af.block<3, 3>(3, 0) * x.head<3>();
+        x.tail<3>() = Af.block<3, 3>(3, 3).ldlt().solve(bt);
+        if (!x.allFinite())
+            return false;
+    }
+    omega = Vec3d(x[0], x[1], x[2]);
+    dt = Vec3d(x[3], x[4], x[5]);
+    return true;
+}
+
+// Fitness and inlier RMSE at the final pose.
+static void finalQuality(const SceneCloud& cloud, const std::vector<Vec3d>& pts,
+                         const ICPParams& params, ICPResult& res)
+{
+    int inliers = 0;
+    double sse = 0;
+    for (size_t i = 0; i < pts.size(); ++i)
+    {
+        Point px;
+        Vec3d s;
+        double d2;
+        if (associate(cloud, res.R * pts[i] + res.t, params.search_radius,
+                      params.inlier_distance, px, s, d2))
+        {
+            ++inliers;
+            sse += d2;
+        }
+    }
+    res.fitness = (double)inliers / (double)pts.size();
+    res.inlier_rmse = inliers ? std::sqrt(sse / inliers) : 0.0;
+}
+
+ICPResult refineICP(const std::vector<Point3f>& model_points, InputArray scene_depth,
+                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0, const ICPParams& params)
+{
+    Mat depth = scene_depth.getMat();
+    Matx33d R = checkICPInputs(model_points, depth, K, R0, params);
+    const std::vector<Vec3d> pts = subsample(model_points, params.max_points);
     SceneCloud cloud(depth, K, params);
-    Matx33d R = R0n;
     Vec3d t = t0;
     ICPResult res;
     double gate = params.max_correspondence_distance;
-    const double sigma_min = params.min_correspondence_distance / params.gate_sigma_factor;
-    const double gmin = params.min_ray_cosine;
     std::vector<Correspondence> corr;
-    corr.reserve(n);
+    corr.reserve(pts.size());
     std::vector<double> tmp;
-    tmp.reserve(n);
-
+    tmp.reserve(pts.size());
     for (int it = 0; it < params.max_iterations; ++it)
     {
-        corr.clear();
-        for (size_t i = 0; i < n; ++i)
-        {
-            Correspondence c;
-            c.q = R * pts[i] + t;
-            Point px;
-            double d2;
-            if (!associate(cloud, c.q, params.search_radius, gate, px, c.s, d2))
-                continue;
-            Vec3f nf;
-            if (!cloud.normal(px.x, px.y, nf))
-                continue;
-            c.n = Vec3d(nf[0], nf[1], nf[2]);
-            c.r = c.n.dot(c.q - c.s);
-            c.d = std::sqrt(d2);
-            c.g = std::max(std::abs(c.n.dot(c.s)) / cv::norm(c.s), gmin);
-            corr.push_back(c);
-        }
+        correspondences(cloud, pts, R, t, gate, params, corr);
         if ((int)corr.size() < params.min_correspondences)
             break;
-
-        // robust scale of the residuals, each divided by the share g of the axial sensor noise
-        // that reaches it (noise-aware weighting: weight 1 / g^2)
-        tmp.clear();
-        for (size_t i = 0; i < corr.size(); ++i)
-            tmp.push_back(std::abs(corr[i].r) / corr[i].g);
-        const double sigma = std::max(sigma_min, 1.4826 * median(tmp));
-        // coarse phase (the gate is still shrinking): a tight kernel, so that a coherent group of
-        // outliers (an occluder in front of the object) cannot pull the pose while the inliers'
-        // residuals are still large; fine phase: the efficient kernel
-        const bool coarse = gate > params.min_correspondence_distance * 1.0001;
-        const double cutoff = (coarse ? params.tukey_c_coarse : params.tukey_c) * sigma;
-
-        // centroid of the moved model points: linearise there (well-conditioned 6x6 system)
-        Vec3d centre(0, 0, 0);
-        for (size_t i = 0; i < corr.size(); ++i)
-            centre += corr[i].q;
-        centre *= 1.0 / (double)corr.size();
-
-        Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
-        Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
-        int used = 0;
-        for (size_t i = 0; i < corr.size(); ++i)
-        {
-            const Correspondence& c = corr[i];
-            const double u = c.r / (c.g * cutoff);
-            if (std::abs(u) >= 1)
-                continue;
-            const double w = (1 - u * u) * (1 - u * u) / (c.g * c.g);
-            const Vec3d qc = c.q - centre;
-            const Vec3d a = qc.cross(c.n);
-            Eigen::Matrix<double, 6, 1> J;
-            J << a[0], a[1], a[2], c.n[0], c.n[1], c.n[2];
-            A.selfadjointView<Eigen::Upper>().rankUpdate(J, w);
-            b -= w * c.r * J;
-            ++used;
-        }
-        if (used < params.min_correspondences)
+        Vec3d centre, omega, dt;
+        if (!icpStep(corr, gate, params, tmp, centre, omega, dt))
             break;
-        const Eigen::Matrix<double, 6, 6> Af = A.selfadjointView<Eigen::Upper>();
-        Eigen::Matrix<double, 6, 1> x = Af.ldlt().solve(b);
-        if (!x.allFinite())
-            break;
-        // trust region on the rotation: the rotation of a roundish object is weakly constrained
-        // by point-to-plane residuals, and a full Gauss-Newton step taken while outliers are
-        // still in can turn it far away. Shorten the rotation, re-solve the translation for it.
-        const double wn = x.head<3>().norm();
-        if (wn > params.max_rotation_step)
-        {
-            x.head<3>() *= params.max_rotation_step / wn;
-            const Eigen::Vector3d bt = b.tail<3>() - Af.block<3, 3>(3, 0) * x.head<3>();
-            x.tail<3>() = Af.block<3, 3>(3, 3).ldlt().solve(bt);
-            if (!x.allFinite())
-                break;
-        }
-
-        const Vec3d omega(x[0], x[1], x[2]), dt(x[3], x[4], x[5]);
         Matx33d dR;
         Rodrigues(omega, dR);
         // q' = dR (q - centre) + centre + dt
         R = dR * R;
         t = dR * (t - centre) + centre + dt;
         res.iterations = it + 1;
-
         // shrink the gate to gate_sigma_factor robust deviations of the 3D distances
         tmp.clear();
         for (size_t i = 0; i < corr.size(); ++i)
@@ -402,33 +440,15 @@ ICPResult refineICP(const std::vector<Point3f>& model_points, InputArray scene_d
         const double dsigma = 1.4826 * median(tmp);
         gate = std::min(gate, std::max(params.min_correspondence_distance,
                                        params.gate_sigma_factor * dsigma));
-
         if (norm(omega) < params.rotation_epsilon && norm(dt) < params.translation_epsilon)
         {
             res.converged = true;
             break;
         }
     }
-
-    // quality at the final pose
-    int inliers = 0;
-    double sse = 0;
-    for (size_t i = 0; i < n; ++i)
-    {
-        Point px;
-        Vec3d s;
-        double d2;
-        if (associate(cloud, R * pts[i] + t, params.search_radius, params.inlier_distance, px, s,
-                      d2))
-        {
-            ++inliers;
-            sse += d2;
-        }
-    }
     res.R = R;
     res.t = t;
-    res.fitness = (double)inliers / (double)n;
-    res.inlier_rmse = inliers ? std::sqrt(sse / inliers) : 0.0;
+    finalQuality(cloud, pts, params, res);
     return res;
 }
 

@@ -37,23 +37,17 @@ struct DimScore
 };
 } // namespace
 
-int BackgroundRejectorTrainer::train(const Mat& codes, const Mat& fg, const std::vector<int>& ids,
-                                     const std::vector<uchar>& core, const Config& cfg,
-                                     std::vector<int>& dims_out, std::vector<ushort>& lut_out,
-                                     int& min_accept, bool& lowered)
+// Label histogram (1..8; "no feature" is not a label: never in a table, doc/forest.md) of every
+// dimension over the node's templates, on the object mask only; the dimensions covered by at
+// least `coverage` of them, lowest entropy first.
+static std::vector<DimScore> rankDimensions(const Mat& codes, const Mat& fg,
+                                            const std::vector<int>& ids, float coverage,
+                                            std::vector<int>& hist, std::vector<int>& cover)
 {
-    min_accept = 0;
-    lowered = false;
     const int n = (int)ids.size();
     const int D = codes.cols;
-    if (cfg.dims <= 0 || n == 0)
-        return 0;
-
-    // label histogram (1..8; "no feature" is not a label) of every dimension over the node's
-    // templates, on the object mask only
-    const int v0 = 1;   // "no feature" (0) is not a label: never in a table (doc/forest.md)
-    std::vector<int> hist((size_t)D * 9, 0);
-    std::vector<int> cover(D, 0);
+    hist.assign((size_t)D * 9, 0);
+    cover.assign(D, 0);
     for (int i = 0; i < n; ++i)
     {
         const uchar* c = codes.ptr<uchar>(ids[i]);
@@ -65,8 +59,7 @@ int BackgroundRejectorTrainer::train(const Mat& codes, const Mat& fg, const std:
                 cover[j]++;
             }
     }
-
-    const int min_cover = std::max(1, (int)std::ceil(cfg.coverage * n - 1e-6));
+    const int min_cover = std::max(1, (int)std::ceil(coverage * n - 1e-6));
     std::vector<DimScore> scores;
     scores.reserve(D);
     for (int j = 0; j < D; ++j)
@@ -75,7 +68,7 @@ int BackgroundRejectorTrainer::train(const Mat& codes, const Mat& fg, const std:
             continue;
         const int* h = &hist[(size_t)j * 9];
         double e = 0;
-        for (int v = v0; v < 9; ++v)
+        for (int v = 1; v < 9; ++v)
             if (h[v])
             {
                 const double p = (double)h[v] / cover[j];
@@ -88,27 +81,45 @@ int BackgroundRejectorTrainer::train(const Mat& codes, const Mat& fg, const std:
         scores.push_back(s);
     }
     std::sort(scores.begin(), scores.end());
+    return scores;
+}
 
-    // Noise allowance: a template with a accepted dims keeps passing with probability >= 1 - eps
-    // when each of its values is corrupted with probability q: allow[a] failures.
-    const int maxK = std::min(cfg.dims, (int)scores.size());
+// Noise allowance: a template with a accepted dims keeps passing with probability >= 1 - eps when
+// each of its values is corrupted with probability q: allow[a] failures, a = 1..maxK + 1.
+static std::vector<int> noiseAllowance(int maxK, float noise)
+{
     std::vector<int> allow(maxK + 2, 0);
+    const double q = std::min(0.99, std::max(0.0, (double)noise)), eps = 1e-3;
+    for (int a = 1; a <= maxK + 1; ++a)
     {
-        const double q = std::min(0.99, std::max(0.0, (double)cfg.noise)), eps = 1e-3;
-        for (int a = 1; a <= maxK + 1; ++a)
+        // smallest f with P(Binomial(a, q) > f) <= eps
+        double pk = std::pow(1 - q, a), cdf = pk;
+        int f = 0;
+        while (1 - cdf > eps && f < a)
         {
-            // smallest f with P(Binomial(a, q) > f) <= eps
-            double pk = std::pow(1 - q, a), cdf = pk;
-            int f = 0;
-            while (1 - cdf > eps && f < a)
-            {
-                pk *= (double)(a - f) / (f + 1) * (q / std::max(1e-12, 1 - q));
-                ++f;
-                cdf += pk;
-            }
-            allow[a] = f;
+            pk *= (double)(a - f) / (f + 1) * (q / std::max(1e-12, 1 - q));
+            ++f;
+            cdf += pk;
         }
+        allow[a] = f;
     }
+    return allow;
+}
+
+int BackgroundRejectorTrainer::train(const Mat& codes, const Mat& fg, const std::vector<int>& ids,
+                                     const std::vector<uchar>& core, const Config& cfg,
+                                     std::vector<int>& dims_out, std::vector<ushort>& lut_out,
+                                     int& min_accept, bool& lowered)
+{
+    min_accept = 0;
+    lowered = false;
+    const int n = (int)ids.size();
+    if (cfg.dims <= 0 || n == 0)
+        return 0;
+    std::vector<int> hist, cover;
+    const std::vector<DimScore> scores = rankDimensions(codes, fg, ids, cfg.coverage, hist, cover);
+    const int maxK = std::min(cfg.dims, (int)scores.size());
+    const std::vector<int> allow = noiseAllowance(maxK, cfg.noise);
 
     // Lowest entropy first, every prefix of the ranking is a candidate rejector; keep the prefix
     // that separates background best, measured as the z-score of its threshold against the
@@ -125,7 +136,7 @@ int BackgroundRejectorTrainer::train(const Mat& codes, const Mat& fg, const std:
         const int* h = &hist[(size_t)j * 9];
         ushort lut = 0;
         int labels = 0;
-        for (int v = v0; v < 9; ++v)
+        for (int v = 1; v < 9; ++v)
             if (h[v] > 0 && (double)h[v] > cfg.rho * cover[j])
             {
                 lut |= codeBit(v);

@@ -97,6 +97,16 @@ private:
     void makeCurrent();
     void checkGL(const char* where);
     GLuint compile(GLenum type, const char* src);
+    void checkDraw(const std::vector<int>& handles, const std::vector<Matx33d>& R,
+                   const std::vector<Vec3d>& t, const Matx33d& K, const char* fn);
+    Rect drawRegion(const std::vector<int>& handles, const std::vector<Matx33d>& R,
+                    const std::vector<Vec3d>& t, const Matx33d& K, double& znear,
+                    double& zfar) const;
+    void rasterize(const std::vector<int>& handles, const std::vector<Matx33d>& R,
+                   const std::vector<Vec3d>& t, const Matx33d& K, bool single, Rect roi,
+                   double znear, double zfar, const char* fn);
+    void readOutputs(Rect roi, bool single, OutputArray color, OutputArray depth,
+                     OutputArray third);
     void draw(const std::vector<int>& handles, const std::vector<Matx33d>& R,
               const std::vector<Vec3d>& t, const Matx33d& K, bool single, OutputArray color,
               OutputArray depth, OutputArray third);
@@ -345,11 +355,9 @@ static void checkPose(const Matx33d& R, const Vec3d& t, int index)
                    determinant(R)));
 }
 
-void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx33d>& R,
-                        const std::vector<Vec3d>& t, const Matx33d& K, bool single,
-                        OutputArray color, OutputArray depth, OutputArray third)
+void RendererImpl::checkDraw(const std::vector<int>& handles, const std::vector<Matx33d>& R,
+                             const std::vector<Vec3d>& t, const Matx33d& K, const char* fn)
 {
-    const char* fn = single ? "Renderer::render" : "Renderer::renderScene";
     if (handles.size() != R.size() || handles.size() != t.size())
         CV_Error_(Error::StsBadSize, ("%s: %d handles, %d rotations, %d translations", fn,
                                       (int)handles.size(), (int)R.size(), (int)t.size()));
@@ -360,7 +368,6 @@ void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx3
     if (!(fx > 0) || !(fy > 0) || !std::isfinite(fx) || !std::isfinite(fy) || !std::isfinite(cx)
         || !std::isfinite(cy))
         CV_Error_(Error::StsBadArg, ("%s: K needs positive finite fx, fy (got %g, %g)", fn, fx, fy));
-    AutoLock lock(mutex_);
     for (size_t i = 0; i < handles.size(); ++i)
     {
         if (handles[i] < 0 || handles[i] >= (int)meshes_.size())
@@ -368,10 +375,18 @@ void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx3
                                              handles[i], (int)meshes_.size()));
         checkPose(R[i], t[i], (int)i);
     }
+}
 
-    // near/far from the bounding boxes: the float attachment holds the exact z, so the z-buffer
-    // only has to order the surfaces
+// Near/far from the bounding boxes (the float attachment holds the exact z, so the z-buffer only
+// has to order the surfaces), and the image region where the boxes project: only it is cleared,
+// drawn and read back (the rest is background). When every box corner is in front of the near
+// plane, the projection of the corners bounds the projection of the meshes.
+Rect RendererImpl::drawRegion(const std::vector<int>& handles, const std::vector<Matx33d>& R,
+                              const std::vector<Vec3d>& t, const Matx33d& K, double& znear,
+                              double& zfar) const
+{
     double zmin = DBL_MAX, zmax = -DBL_MAX;
+    double umin = DBL_MAX, umax = -DBL_MAX, vmin = DBL_MAX, vmax = -DBL_MAX;
     for (size_t i = 0; i < handles.size(); ++i)
         for (int c = 0; c < 8; ++c)
         {
@@ -379,91 +394,90 @@ void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx3
             const Vec3d p = R[i] * Vec3d(q.x, q.y, q.z) + t[i];
             zmin = std::min(zmin, p[2]);
             zmax = std::max(zmax, p[2]);
+            const double u = (K(0, 0) * p[0] + K(0, 1) * p[1]) / p[2] + K(0, 2);
+            const double v = K(1, 1) * p[1] / p[2] + K(1, 2);
+            umin = std::min(umin, u);
+            umax = std::max(umax, u);
+            vmin = std::min(vmin, v);
+            vmax = std::max(vmax, v);
         }
     const int W = size_.width, H = size_.height;
-    const double zfar = zmax * 1.01 + 1.0;
-    const double znear = std::max(zmin * 0.99 - 1.0, zfar * 1e-5);
-    // Only the image region where the bounding boxes project is cleared, drawn and read back
-    // (the rest is background): when every box corner is in front of the near plane, the
-    // projection of the corners bounds the projection of the meshes.
-    Rect roi(0, 0, W, H);
+    zfar = zmax * 1.01 + 1.0;
+    znear = std::max(zmin * 0.99 - 1.0, zfar * 1e-5);
     if (handles.empty() || zmax <= 0)
-        roi = Rect();
-    else if (zmin > znear)
+        return Rect();
+    if (!(zmin > znear))
+        return Rect(0, 0, W, H);
+    // clamped on both sides before the int conversion (far off-screen boxes)
+    const double lo_u = std::min(W + 1.0, std::max(-1.0, std::floor(umin) - 1));
+    const double hi_u = std::max(-1.0, std::min(W + 1.0, std::ceil(umax) + 2));
+    const double lo_v = std::min(H + 1.0, std::max(-1.0, std::floor(vmin) - 1));
+    const double hi_v = std::max(-1.0, std::min(H + 1.0, std::ceil(vmax) + 2));
+    return Rect((int)lo_u, (int)lo_v, (int)std::max(0.0, hi_u - lo_u),
+                (int)std::max(0.0, hi_v - lo_v)) & Rect(0, 0, W, H);
+}
+
+void RendererImpl::rasterize(const std::vector<int>& handles, const std::vector<Matx33d>& R,
+                             const std::vector<Vec3d>& t, const Matx33d& K, bool single, Rect roi,
+                             double znear, double zfar, const char* fn)
+{
+    const int W = size_.width, H = size_.height;
+    makeCurrent();
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(roi.x, roi.y, roi.width, roi.height); // no y flip: GL row = image row
+    const GLfloat zero[4] = { 0.f, 0.f, 0.f, 0.f };
+    const GLfloat one = 1.f;
+    glClearBufferfv(GL_COLOR, 0, zero);
+    glClearBufferfv(GL_COLOR, 1, zero);
+    glClearBufferfv(GL_DEPTH, 0, &one);
+    // OpenCV pixel (u, v) = GL window (u + 0.5, v + 0.5); no y flip, so that row v of the
+    // read-back buffer is image row v (the winding flips, culling is off).
+    Matx44f P = Matx44f::zeros();
+    P(0, 0) = (float)(2.0 * K(0, 0) / W);
+    P(0, 1) = (float)(2.0 * K(0, 1) / W);
+    P(0, 2) = (float)(2.0 * (K(0, 2) + 0.5) / W - 1.0);
+    P(1, 1) = (float)(2.0 * K(1, 1) / H);
+    P(1, 2) = (float)(2.0 * (K(1, 2) + 0.5) / H - 1.0);
+    P(2, 2) = (float)((zfar + znear) / (zfar - znear));
+    P(2, 3) = (float)(-2.0 * zfar * znear / (zfar - znear));
+    P(3, 2) = 1.f;
+    glUseProgram(program_);
+    glUniformMatrix4fv(loc_projection_, 1, GL_TRUE, P.val);
+    glUniform1f(loc_ambient_, (float)ambient_);
+    for (size_t i = 0; i < handles.size(); ++i)
     {
-        double umin = DBL_MAX, umax = -DBL_MAX, vmin = DBL_MAX, vmax = -DBL_MAX;
-        for (size_t i = 0; i < handles.size(); ++i)
-            for (int c = 0; c < 8; ++c)
-            {
-                const Point3f& q = meshes_[handles[i]].corners[c];
-                const Vec3d p = R[i] * Vec3d(q.x, q.y, q.z) + t[i];
-                const double u = (fx * p[0] + K(0, 1) * p[1]) / p[2] + cx, v = fy * p[1] / p[2] + cy;
-                umin = std::min(umin, u);
-                umax = std::max(umax, u);
-                vmin = std::min(vmin, v);
-                vmax = std::max(vmax, v);
-            }
-        // clamped on both sides before the int conversion (far off-screen boxes)
-        const double lo_u = std::min(W + 1.0, std::max(-1.0, std::floor(umin) - 1));
-        const double hi_u = std::max(-1.0, std::min(W + 1.0, std::ceil(umax) + 2));
-        const double lo_v = std::min(H + 1.0, std::max(-1.0, std::floor(vmin) - 1));
-        const double hi_v = std::max(-1.0, std::min(H + 1.0, std::ceil(vmax) + 2));
-        roi = Rect((int)lo_u, (int)lo_v, (int)std::max(0.0, hi_u - lo_u),
-                   (int)std::max(0.0, hi_v - lo_v)) & Rect(0, 0, W, H);
+        const Matx33f Rf(R[i]);
+        const Vec3f tf(t[i]);
+        glUniformMatrix3fv(loc_R_, 1, GL_TRUE, Rf.val);
+        glUniform3f(loc_t_, tf[0], tf[1], tf[2]);
+        glUniform1f(loc_label_, single ? 1.f : (float)((i + 1) / 255.0));
+        const GpuMesh& g = meshes_[handles[i]];
+        glBindVertexArray(g.vao);
+        glDrawElements(GL_TRIANGLES, g.num_indices, GL_UNSIGNED_INT, 0);
     }
+    glBindVertexArray(0);
+    // read back the region: colour + label (alpha), then z
+    bgra_.create(roi.height, roi.width, CV_8UC4);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_BGRA, GL_UNSIGNED_BYTE, bgra_.data);
+    z_.create(roi.height, roi.width, CV_32F);
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_RED, GL_FLOAT, z_.data);
+    checkGL(fn);
+}
 
-    if (roi.area() > 0)
-    {
-        makeCurrent();
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-        glEnable(GL_SCISSOR_TEST);
-        glScissor(roi.x, roi.y, roi.width, roi.height); // no y flip: GL row = image row
-        const GLfloat zero[4] = { 0.f, 0.f, 0.f, 0.f };
-        const GLfloat one = 1.f;
-        glClearBufferfv(GL_COLOR, 0, zero);
-        glClearBufferfv(GL_COLOR, 1, zero);
-        glClearBufferfv(GL_DEPTH, 0, &one);
-        // OpenCV pixel (u, v) = GL window (u + 0.5, v + 0.5); no y flip, so that row v of the
-        // read-back buffer is image row v (the winding flips, culling is off).
-        Matx44f P = Matx44f::zeros();
-        P(0, 0) = (float)(2.0 * fx / W);
-        P(0, 1) = (float)(2.0 * K(0, 1) / W);
-        P(0, 2) = (float)(2.0 * (cx + 0.5) / W - 1.0);
-        P(1, 1) = (float)(2.0 * fy / H);
-        P(1, 2) = (float)(2.0 * (cy + 0.5) / H - 1.0);
-        P(2, 2) = (float)((zfar + znear) / (zfar - znear));
-        P(2, 3) = (float)(-2.0 * zfar * znear / (zfar - znear));
-        P(3, 2) = 1.f;
-        glUseProgram(program_);
-        glUniformMatrix4fv(loc_projection_, 1, GL_TRUE, P.val);
-        glUniform1f(loc_ambient_, (float)ambient_);
-        for (size_t i = 0; i < handles.size(); ++i)
-        {
-            const Matx33f Rf(R[i]);
-            const Vec3f tf(t[i]);
-            glUniformMatrix3fv(loc_R_, 1, GL_TRUE, Rf.val);
-            glUniform3f(loc_t_, tf[0], tf[1], tf[2]);
-            glUniform1f(loc_label_, single ? 1.f : (float)((i + 1) / 255.0));
-            const GpuMesh& g = meshes_[handles[i]];
-            glBindVertexArray(g.vao);
-            glDrawElements(GL_TRIANGLES, g.num_indices, GL_UNSIGNED_INT, 0);
-        }
-        glBindVertexArray(0);
-
-        // read back the region: colour + label (alpha), then z
-        bgra_.create(roi.height, roi.width, CV_8UC4);
-        glReadBuffer(GL_COLOR_ATTACHMENT0);
-        glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_BGRA, GL_UNSIGNED_BYTE, bgra_.data);
-        z_.create(roi.height, roi.width, CV_32F);
-        glReadBuffer(GL_COLOR_ATTACHMENT1);
-        glReadPixels(roi.x, roi.y, roi.width, roi.height, GL_RED, GL_FLOAT, z_.data);
-        checkGL(fn);
-    }
-
+// The object pixels are those with z > 0 (the z attachment is cleared to 0); depth, mask and
+// labels are all derived from that one test so that they agree exactly.
+void RendererImpl::readOutputs(Rect roi, bool single, OutputArray color, OutputArray depth,
+                               OutputArray third)
+{
+    const Size size = size_;
+    Mat c, d, l;
     if (color.needed())
     {
-        color.create(H, W, CV_8UC3);
-        Mat c = color.getMat();
+        color.create(size, CV_8UC3);
+        c = color.getMat();
         c.setTo(Scalar::all(0));
         if (roi.area() > 0)
         {
@@ -472,35 +486,47 @@ void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx3
             mixChannels(&bgra_, 1, &c_roi, 1, from_to, 3);
         }
     }
-    // the object pixels are those with z > 0 (the z attachment is cleared to 0); depth, mask and
-    // labels are all derived from that one test so that they agree exactly
     if (depth.needed())
     {
-        depth.create(H, W, CV_16U);
-        Mat d = depth.getMat();
+        depth.create(size, CV_16U);
+        d = depth.getMat();
         d.setTo(Scalar::all(0));
-        for (int r = 0; r < roi.height; ++r)
-        {
-            const float* zr = z_.ptr<float>(r);
-            ushort* dr = d.ptr<ushort>(roi.y + r) + roi.x;
-            for (int c = 0; c < roi.width; ++c)
-                dr[c] = zr[c] > 0.f ? (ushort)std::min(65535, std::max(1, cvRound(zr[c]))) : 0;
-        }
     }
     if (third.needed())
     {
-        third.create(H, W, CV_8U);
-        Mat l = third.getMat();
+        third.create(size, CV_8U);
+        l = third.getMat();
         l.setTo(Scalar::all(0));
-        for (int r = 0; r < roi.height; ++r)
+    }
+    for (int r = 0; r < roi.height && (!d.empty() || !l.empty()); ++r)
+    {
+        const float* zr = z_.ptr<float>(r);
+        const uchar* a = bgra_.ptr<uchar>(r) + 3;
+        ushort* dr = d.empty() ? 0 : d.ptr<ushort>(roi.y + r) + roi.x;
+        uchar* lr = l.empty() ? 0 : l.ptr<uchar>(roi.y + r) + roi.x;
+        for (int x = 0; x < roi.width; ++x)
         {
-            const float* zr = z_.ptr<float>(r);
-            const uchar* a = bgra_.ptr<uchar>(r) + 3;
-            uchar* lr = l.ptr<uchar>(roi.y + r) + roi.x;
-            for (int c = 0; c < roi.width; ++c)
-                lr[c] = zr[c] > 0.f ? (single ? 255 : a[4 * c]) : 0;
+            const bool on = zr[x] > 0.f;
+            if (dr)
+                dr[x] = on ? (ushort)std::min(65535, std::max(1, cvRound(zr[x]))) : 0;
+            if (lr)
+                lr[x] = on ? (single ? 255 : a[4 * x]) : 0;
         }
     }
+}
+
+void RendererImpl::draw(const std::vector<int>& handles, const std::vector<Matx33d>& R,
+                        const std::vector<Vec3d>& t, const Matx33d& K, bool single,
+                        OutputArray color, OutputArray depth, OutputArray third)
+{
+    const char* fn = single ? "Renderer::render" : "Renderer::renderScene";
+    AutoLock lock(mutex_);
+    checkDraw(handles, R, t, K, fn);
+    double znear = 0, zfar = 0;
+    const Rect roi = drawRegion(handles, R, t, K, znear, zfar);
+    if (roi.area() > 0)
+        rasterize(handles, R, t, K, single, roi, znear, zfar, fn);
+    readOutputs(roi, single, color, depth, third);
 }
 
 } // namespace
