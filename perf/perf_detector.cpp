@@ -11,11 +11,6 @@
 
 namespace opencv_test { namespace {
 
-static Matx33d lmoK()
-{
-    return Matx33d(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
-}
-
 // obj 1 ships with the project; the other seven come from ../shared (FORESTMOD_SHARED_DATA)
 static std::vector<std::string> meshPaths(int count)
 {
@@ -61,7 +56,7 @@ static const TemplateSet& templates(int objects)
     {
         set.meshes.push_back(Mesh::load(paths[i]));
         set.views.push_back(std::vector<TemplateView>());
-        renderTemplates(set.meshes.back(), ViewSampler(sp), lmoK(), szVGA, set.views.back());
+        renderTemplates(set.meshes.back(), ViewSampler(sp), lmoIntrinsics(), szVGA, set.views.back());
     }
     return set;
 }
@@ -101,7 +96,7 @@ static std::vector<int> Tpyr()
 static std::vector<Mat> scene(const TemplateSet& set)
 {
     Ptr<Renderer> renderer = Renderer::create(szVGA);
-    SceneSynthesizer synth(renderer, lmoK());
+    SceneSynthesizer synth(renderer, lmoIntrinsics());
     for (size_t i = 0; i < set.meshes.size(); ++i)
         synth.addObject(set.meshes[i]);
     std::vector<Mat> bg(1, imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png")));

@@ -15,7 +15,7 @@ struct Hypotheses
 {
     explicit Hypotheses(int n)
         : mr(Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply")), Size(640, 480)),
-          K(lmoK())
+          K(lmoIntrinsics())
     {
         RNG rng(123);
         for (int i = 0; i < n; ++i)
@@ -101,7 +101,7 @@ PERF_TEST(Forestmod_Pose, refinePoseEdges_VGA)
 {
     MeshRenderer mr(Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply")),
                     Size(640, 480));
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     Matx33d R;
     Vec3d t;
     ViewSampler::lookAt(mr.mesh.center(), Vec3d(0.5, 0.5, 0.7071), 750, 30, R, t);

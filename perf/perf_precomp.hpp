@@ -9,12 +9,14 @@
 #include "opencv2/forestmod.hpp"
 #include "opencv2/imgproc.hpp"
 #include "opencv2/imgcodecs.hpp"
+#include "../samples/sample_utils.hpp"
 
 #include <map>
 
 namespace opencv_test {
 using namespace perf;
 using namespace cv::forestmod;
+using namespace cv::forestmod::samples;
 } // namespace opencv_test
 
 #endif

@@ -28,7 +28,7 @@ typedef TestBaseWithParam<std::string> Forestmod_Render;
 PERF_TEST_P(Forestmod_Render, template_640x480, testing::Values("ape", "driller"))
 {
     const Mesh mesh = Mesh::load(meshPath(GetParam()));
-    const Matx33d K(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+    const Matx33d K = lmoIntrinsics();
     Ptr<Renderer> renderer = Renderer::create(Size(640, 480));
     const int handle = renderer->addMesh(mesh);
     const Point3f c = mesh.center();
@@ -52,7 +52,7 @@ PERF_TEST_P(Forestmod_Render, template_640x480, testing::Values("ape", "driller"
 PERF_TEST_P(Forestmod_Render, renderTemplates_18_views, testing::Values("ape"))
 {
     const Mesh mesh = Mesh::load(meshPath(GetParam()));
-    const Matx33d K(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+    const Matx33d K = lmoIntrinsics();
     ViewSampler::Params p = ViewSampler::Params::coarse();
     p.inplane_min = -15;
     p.inplane_max = 15;

@@ -17,6 +17,10 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+#include "sample_utils.hpp"
+
+using cv::forestmod::samples::splitList;
+using cv::forestmod::samples::lmoIntrinsics;
 
 static const char* keys
     = "{help h usage ?  |      | print this message }"
@@ -42,17 +46,6 @@ static int objectId(const std::string& class_id)
     if (class_id.compare(0, 4, "obj_") != 0 && p != 0)
         return -1;
     return atoi(class_id.c_str() + p);
-}
-
-static std::vector<std::string> split(const std::string& s, char sep)
-{
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, sep))
-        if (!item.empty())
-            out.push_back(item);
-    return out;
 }
 
 static void drawPose(cv::Mat& img, const cv::forestmod::PoseMatch& m, const cv::Matx33d& K,
@@ -131,7 +124,7 @@ int main(int argc, char** argv)
     }
     try
     {
-        cv::Matx33d K(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+        cv::Matx33d K = lmoIntrinsics();
         std::vector<cv::forestmod::GroundTruth> gt;
         std::map<std::string, std::string> mesh_paths;
         cv::Mat color, depth;
@@ -181,7 +174,7 @@ int main(int argc, char** argv)
         }
         if (!Kstr.empty())
         {
-            std::vector<std::string> k = split(Kstr, ',');
+            std::vector<std::string> k = splitList(Kstr, ',');
             if (k.size() != 4)
             {
                 std::cerr << "forestmod_detect: --K is fx,fy,cx,cy\n";
@@ -190,7 +183,7 @@ int main(int argc, char** argv)
             K = cv::Matx33d(atof(k[0].c_str()), 0, atof(k[2].c_str()), 0, atof(k[1].c_str()),
                             atof(k[3].c_str()), 0, 0, 1);
         }
-        std::vector<std::string> pairs = split(meshes_arg, ',');
+        std::vector<std::string> pairs = splitList(meshes_arg, ',');
         for (size_t i = 0; i < pairs.size(); ++i)
         {
             const size_t eq = pairs[i].find('=');

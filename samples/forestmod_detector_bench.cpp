@@ -23,6 +23,12 @@
 #include <cstdio>
 #include <iostream>
 #include <sstream>
+#include "sample_utils.hpp"
+
+using cv::forestmod::samples::splitList;
+using cv::forestmod::samples::lmoIntrinsics;
+using cv::forestmod::samples::rayRotation;
+using cv::forestmod::samples::rotationAngleDeg;
 
 using namespace cv;
 using namespace cv::forestmod;
@@ -68,44 +74,6 @@ static const char* keys
       "{map            |         | folder: write rej_<obj>.png (scene | rejection depth) of the first scene }"
       "{verbose v      | 0       | 1: one line per scene }"
       "{only           | -1      | match only this scene index (diagnostics) }";
-
-static std::vector<std::string> split(const std::string& s)
-{
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ','))
-        if (!item.empty())
-            out.push_back(item);
-    return out;
-}
-
-static Matx33d lmoK()
-{
-    return Matx33d(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
-}
-
-static double rotationAngleDeg(const Matx33d& A, const Matx33d& B)
-{
-    const Matx33d D = A.t() * B;
-    const double c = std::max(-1.0, std::min(1.0, (trace(D) - 1) / 2));
-    return std::acos(c) * 180 / CV_PI;
-}
-
-// rotation that takes the optical axis onto the ray through pixel p
-static Matx33d rayRotation(const Matx33d& K, Point2d p)
-{
-    Vec3d d = K.inv() * Vec3d(p.x, p.y, 1);
-    d *= 1.0 / cv::norm(d);
-    Vec3d axis = Vec3d(0, 0, 1).cross(d);
-    const double s = cv::norm(axis);
-    if (s < 1e-12)
-        return Matx33d::eye();
-    axis *= std::atan2(s, d[2]) / s;
-    Matx33d R;
-    Rodrigues(axis, R);
-    return R;
-}
 
 struct TemplateInfo
 {
@@ -156,7 +124,7 @@ int main(int argc, char** argv)
     std::string mini = parser.get<std::string>("mini");
     if (mini.empty() && getenv("OPENCV_TEST_DATA_PATH"))
         mini = std::string(getenv("OPENCV_TEST_DATA_PATH")) + "/forestmod/lmo_mini";
-    const std::vector<std::string> obj_s = split(parser.get<std::string>("objects"));
+    const std::vector<std::string> obj_s = splitList(parser.get<std::string>("objects"));
     const bool together = parser.get<int>("together") != 0;
     const int scenes = parser.get<int>("scenes");
     const float threshold = parser.get<float>("threshold");
@@ -164,8 +132,8 @@ int main(int argc, char** argv)
     const std::string map_dir = parser.get<std::string>("map");
     const bool verbose = parser.get<int>("verbose") != 0;
     const int only = parser.get<int>("only");
-    const std::vector<std::string> inplane = split(parser.get<std::string>("inplane"));
-    const std::vector<std::string> radii_s = split(parser.get<std::string>("radii"));
+    const std::vector<std::string> inplane = splitList(parser.get<std::string>("inplane"));
+    const std::vector<std::string> radii_s = splitList(parser.get<std::string>("radii"));
 
     DetectorParams p;
 #define BENCH_SET(flag, field, type) \
@@ -236,7 +204,7 @@ int main(int argc, char** argv)
             bg.push_back(img);
         }
 
-        const Matx33d K = lmoK();
+        const Matx33d K = lmoIntrinsics();
         const Size size(640, 480);
         Ptr<Renderer> renderer = Renderer::create(size);
         SceneSynthesizer synth(renderer, K);

@@ -12,6 +12,10 @@
 #include <cstdio>
 #include <iostream>
 #include <sstream>
+#include "sample_utils.hpp"
+
+using cv::forestmod::samples::splitList;
+using cv::forestmod::samples::lmoIntrinsics;
 
 static const char* keys
     = "{help h usage ?  |          | print this message }"
@@ -30,21 +34,10 @@ static const char* keys
       "{scale           | 1        | mesh units -> mm (1000 for meshes in metres) }"
       "{force           |          | overwrite the output file }";
 
-static std::vector<std::string> split(const std::string& s)
-{
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, ','))
-        if (!item.empty())
-            out.push_back(item);
-    return out;
-}
-
 static std::vector<double> numbers(const std::string& s)
 {
     std::vector<double> out;
-    std::vector<std::string> items = split(s);
+    std::vector<std::string> items = splitList(s);
     for (size_t i = 0; i < items.size(); ++i)
         out.push_back(atof(items[i].c_str()));
     return out;
@@ -67,8 +60,8 @@ int main(int argc, char** argv)
         parser.printMessage();
         return 0;
     }
-    const std::vector<std::string> meshes = split(parser.get<std::string>("meshes"));
-    std::vector<std::string> ids = split(parser.get<std::string>("ids"));
+    const std::vector<std::string> meshes = splitList(parser.get<std::string>("meshes"));
+    std::vector<std::string> ids = splitList(parser.get<std::string>("ids"));
     const std::string out = parser.get<std::string>("out");
     const std::string camera = parser.get<std::string>("camera");
     const std::string mods = parser.get<std::string>("modalities");
@@ -115,7 +108,7 @@ int main(int argc, char** argv)
         }
     try
     {
-        cv::Matx33d K(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+        cv::Matx33d K = lmoIntrinsics();
         cv::Size size(640, 480);
         if (!camera.empty())
         {

@@ -252,11 +252,11 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
                        OutputArrayOfArrays quantized_images, const std::vector<Mat>& masks,
                        DetectionStats* stats)
 {
-    detail::StageClock clock;
     checkMatchInputs(d, sources, threshold, masks);
     const DetectorParams& params = d.impl.params;
     if (params.use_forest)
-        ensureTrained(d);
+        ensureTrained(d); // counted in t_total_ms only
+    detail::StageClock clock;
     std::vector<String> classes;
     const std::vector<uchar> allowed = allowedRows(d, class_ids, classes);
 

@@ -95,7 +95,7 @@ static Rect cropTemplatePyramid(TemplatePyramid& templates)
 // spacing of n points over the object (shrinking until n are chosen), in order of distance from
 // the template's median depth, so that of each neighbourhood the point with more relief is taken
 // (a point at the median agrees with a flat picture as well as with the object). Taking only
-// the extreme points was worse (doc/detector.md, "Depth").
+// the extreme points was worse (doc/experiments.md, "Choice of depth samples").
 static void selectDepthSamples(const Mat& depth, const Mat& mask, Point tl, int n,
                                std::vector<Point3i>& samples)
 {

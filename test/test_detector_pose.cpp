@@ -9,11 +9,6 @@
 
 namespace opencv_test { namespace {
 
-static Matx33d lmoK()
-{
-    return Matx33d(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
-}
-
 /** The ape's templates between 15 and 90 degrees of elevation at 800 mm (views ~30 degrees
 apart, in-plane -20..20) in a detector `det` with its mesh, and a synthesizer of scenes with the
 ape up to 10 degrees off those views over a real LM-O frame. */
@@ -30,11 +25,11 @@ struct ApeScenes
         sp.inplane_max = 20;
         sp.inplane_step = 20;
         const ViewSampler sampler(sp);
-        CV_Assert(det->addTemplates(ape, "ape", sampler, lmoK(), Size(640, 480)) > 0);
+        CV_Assert(det->addTemplates(ape, "ape", sampler, lmoIntrinsics(), Size(640, 480)) > 0);
         det->train();
         SyntheticSceneParams ssp;
         ssp.max_perturbation_deg = 10; // poses between templates
-        synth = makePtr<SceneSynthesizer>(Renderer::create(Size(640, 480)), lmoK(), ssp);
+        synth = makePtr<SceneSynthesizer>(Renderer::create(Size(640, 480)), lmoIntrinsics(), ssp);
         synth->addObject(ape);
         synth->setBackgrounds(std::vector<Mat>(
             1, imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"))));
@@ -71,7 +66,7 @@ TEST(Forestmod_DetectorPose, rgbd_scenes_give_correct_poses)
         src.push_back(scene.depth);
         src.push_back(scene.color);
         std::vector<PoseMatch> matches;
-        det->detect(src, lmoK(), 80.f, matches);
+        det->detect(src, lmoIntrinsics(), 80.f, matches);
         if (matches.empty())
             continue;
         ASSERT_TRUE(matches[0].has_pose);
@@ -84,18 +79,18 @@ TEST(Forestmod_DetectorPose, rgbd_scenes_give_correct_poses)
         std::vector<PoseMatch> rgb, initial;
         det->match(src, 80.f, rgb);
         initial = rgb;
-        det->estimatePoses(noArray(), lmoK(), initial);
-        det->estimatePoses(noArray(), lmoK(), rgb, PoseParams(), scene.color);
+        det->estimatePoses(noArray(), lmoIntrinsics(), initial);
+        det->estimatePoses(noArray(), lmoIntrinsics(), rgb, PoseParams(), scene.color);
         if (!initial.empty() && initial[0].has_pose)
         {
             EXPECT_FALSE(initial[0].refined);
             EXPECT_TRUE(rgb[0].refined);
-            const Vec3d c = lmoK() * (initial[0].R * Vec3d(ape.center().x, ape.center().y,
+            const Vec3d c = lmoIntrinsics() * (initial[0].R * Vec3d(ape.center().x, ape.center().y,
                                                            ape.center().z) + initial[0].t);
             rgb_close += cv::norm(Point2d(c[0] / c[2], c[1] / c[2]) - scene.center) < 10.0;
-            rgb_err_unrefined += projectionError2D(pts, lmoK(), initial[0].R, initial[0].t,
+            rgb_err_unrefined += projectionError2D(pts, lmoIntrinsics(), initial[0].R, initial[0].t,
                                                    scene.R, scene.t);
-            rgb_err += projectionError2D(pts, lmoK(), rgb[0].R, rgb[0].t, scene.R, scene.t);
+            rgb_err += projectionError2D(pts, lmoIntrinsics(), rgb[0].R, rgb[0].t, scene.R, scene.t);
             ++rgb_n;
         }
     }
@@ -125,8 +120,8 @@ TEST(Forestmod_DetectorPose, rgb_detect_chooses_pose_among_overlapping_matches)
         const SyntheticScene scene = as.render(rng);
         const std::vector<Mat> src(2, scene.color);
         std::vector<PoseMatch> many, single;
-        det->detect(src, lmoK(), 80.f, many);
-        det->detect(src, lmoK(), 80.f, single, std::vector<String>(), one);
+        det->detect(src, lmoIntrinsics(), 80.f, many);
+        det->detect(src, lmoIntrinsics(), 80.f, single, std::vector<String>(), one);
         ASSERT_EQ(single.size(), many.size());
         if (many.empty())
             continue;
@@ -141,9 +136,9 @@ TEST(Forestmod_DetectorPose, rgb_detect_chooses_pose_among_overlapping_matches)
         EXPECT_GE(many[0].edge_fit, single[0].edge_fit - 1e-9);
         EXPECT_TRUE(many[0].pose.valid);
         chose_other += many[0].template_id != single[0].template_id;
-        err_one += projectionError2D(ape.vertices, lmoK(), single[0].R, single[0].t, scene.R,
+        err_one += projectionError2D(ape.vertices, lmoIntrinsics(), single[0].R, single[0].t, scene.R,
                                      scene.t);
-        err_many += projectionError2D(ape.vertices, lmoK(), many[0].R, many[0].t, scene.R,
+        err_many += projectionError2D(ape.vertices, lmoIntrinsics(), many[0].R, many[0].t, scene.R,
                                       scene.t);
         ++n;
     }
@@ -158,14 +153,14 @@ TEST(Forestmod_DetectorPose, bad_input_raises)
 {
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
     std::vector<PoseMatch> m(1);
-    EXPECT_THROW(det->estimatePoses(Mat(480, 640, CV_32F), lmoK(), m), cv::Exception);
+    EXPECT_THROW(det->estimatePoses(Mat(480, 640, CV_32F), lmoIntrinsics(), m), cv::Exception);
     EXPECT_THROW(det->estimatePoses(noArray(), Matx33d::zeros(), m), cv::Exception);
     PoseParams p;
     p.icp_passes = 0;
-    EXPECT_THROW(det->estimatePoses(noArray(), lmoK(), m, p), cv::Exception);
+    EXPECT_THROW(det->estimatePoses(noArray(), lmoIntrinsics(), m, p), cv::Exception);
     PoseParams q;
     q.rgb_hypotheses = 0;
-    EXPECT_THROW(det->estimatePoses(noArray(), lmoK(), m, q), cv::Exception);
+    EXPECT_THROW(det->estimatePoses(noArray(), lmoIntrinsics(), m, q), cv::Exception);
     Mesh empty;
     EXPECT_THROW(det->setMesh("x", empty), cv::Exception);
 }

@@ -11,11 +11,6 @@
 
 namespace opencv_test { namespace {
 
-static Matx33d lmoK()
-{
-    return Matx33d(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
-}
-
 static std::string meshPath(int obj_id)
 {
     if (obj_id == 1)
@@ -56,28 +51,6 @@ static ViewSampler testSampler()
     return ViewSampler(p);
 }
 
-static double rotationAngleDeg(const Matx33d& A, const Matx33d& B)
-{
-    const Matx33d D = A.t() * B;
-    const double c = std::max(-1.0, std::min(1.0, (trace(D) - 1) / 2));
-    return std::acos(c) * 180 / CV_PI;
-}
-
-// rotation that takes the optical axis onto the ray through pixel p
-static Matx33d rayRotation(const Matx33d& K, Point2d p)
-{
-    Vec3d d = K.inv() * Vec3d(p.x, p.y, 1);
-    d *= 1.0 / cv::norm(d);
-    Vec3d axis = Vec3d(0, 0, 1).cross(d);
-    const double s = cv::norm(axis);
-    if (s < 1e-12)
-        return Matx33d::eye();
-    axis *= std::atan2(s, d[2]) / s;
-    Matx33d R;
-    Rodrigues(axis, R);
-    return R;
-}
-
 struct TemplateInfo
 {
     Point2d centre_offset; // object centre pixel relative to the template's box
@@ -116,7 +89,7 @@ TEST(Forestmod_Detector, rendered_scenes_recall_and_rejection)
     if (meshes.size() < 3)
         std::cout << "[ SKIP    ] FORESTMOD_SHARED_DATA absent: only the shipped ape is tested"
                   << std::endl;
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     const Size size(640, 480);
     Ptr<Renderer> renderer = Renderer::create(size);
     SceneSynthesizer synth(renderer, K);
@@ -208,7 +181,7 @@ TEST(Forestmod_Detector, addTemplates_from_mesh_with_poses)
     const ViewSampler sampler(p);
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
     int calls = 0;
-    const int n = det->addTemplates(ape, "ape", sampler, lmoK(), Size(640, 480),
+    const int n = det->addTemplates(ape, "ape", sampler, lmoIntrinsics(), Size(640, 480),
                                     [&](int done, int total) -> bool {
                                         ++calls;
                                         EXPECT_LE(done, total);
@@ -250,7 +223,7 @@ static ViewSampler::Params sixApeViews()
 TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
 {
     const Mesh ape = Mesh::load(meshPath(1));
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     const Size size(640, 480);
     const ViewSampler::Params sp = sixApeViews();
     const std::vector<Ptr<linemod::Modality> > mods = getDefaultForestLINEMOD()->getModalities();
@@ -327,7 +300,7 @@ namespace opencv_test { namespace {
 // forest per size group) and the depth rule keep every object findable and reject most of the
 // background; one window over the largest object (the behaviour before groups) rejects almost
 // nothing. Measured (3 trees): 88.6 % rejected with groups, 17.6 % with one window, hits 23/24
-// both. Numbers: doc/detector.md, "Several objects in one detector".
+// both. Numbers: doc/detector.md, "Search groups of templates".
 TEST(Forestmod_Detector, several_objects_search_groups_reject_background)
 {
     applyTestTag(CV_TEST_TAG_LONG);
@@ -343,7 +316,7 @@ TEST(Forestmod_Detector, several_objects_search_groups_reject_background)
             throw SkipTestException("LM-O mesh missing: " + path);
         meshes.push_back(Mesh::load(path));
     }
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     const Size size(640, 480);
     Ptr<Renderer> renderer = Renderer::create(size);
     SceneSynthesizer synth(renderer, K);
@@ -462,7 +435,7 @@ TEST(Forestmod_Detector, several_objects_search_groups_reject_background)
         EXPECT_GE(hits[o], scenes - 1) << "obj " << ids[o];
         EXPECT_GE(hits[o], hits_one[o] - 1) << "obj " << ids[o];
     }
-    // measured (doc/detector.md): 88.6 % with groups, 17.6 % with one window (3 trees)
+    // measured: doc/detector.md, "Search groups of templates" (3 trees)
     EXPECT_GE(rejected, 0.75);
     EXPECT_GE(rejected, rejected_one + 0.4);
 }
@@ -473,11 +446,11 @@ TEST(Forestmod_Detector, several_objects_search_groups_reject_background)
 TEST(Forestmod_Detector, depth_modality_separates_object_from_flat_picture)
 {
     const Mesh ape = Mesh::load(meshPath(1));
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     const Size size(640, 480);
     const ViewSampler::Params sp = sixApeViews();
     const std::vector<Ptr<linemod::Modality> > mods = getDefaultForestLINEMOD()->getModalities();
-    // the defaults: depth samples scored at the refinement levels (doc/detector.md, "Depth")
+    // the defaults: depth samples scored at the refinement levels (doc/detector.md, "Depth modality")
     const DetectorParams on;
     ASSERT_GT(on.depth_samples, 0);
     cv::forestmod::Detector det(mods, rgbdPyramid(), on);

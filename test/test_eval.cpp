@@ -86,7 +86,7 @@ static void makeDataset(const std::string& root, int frames)
     Mesh big = ape;
     for (size_t i = 0; i < big.vertices.size(); ++i)
         big.vertices[i] *= 1.6f;
-    const cv::Matx33d K(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+    const cv::Matx33d K = lmoIntrinsics();
     const cv::Size size(640, 480);
     cv::utils::fs::createDirectories(root + "/models");
     const std::string scene = root + "/test/000001";

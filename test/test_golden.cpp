@@ -20,11 +20,6 @@
 
 namespace opencv_test { namespace {
 
-static Matx33d goldenK()
-{
-    return Matx33d(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
-}
-
 static const char* const LMO_FRAMES[] = { "000224", "000902", "001038" };
 static const int RGBD_SCENES = 2;
 
@@ -68,7 +63,7 @@ static void recordModel(bool rgbd, const std::string& path)
 {
     Ptr<cv::forestmod::Detector> det = rgbd ? getDefaultForestLINEMOD() : getDefaultForestLINE();
     const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
-    ASSERT_GT(det->addTemplates(ape, "ape", goldenSampler(), goldenK(), Size(640, 480)), 40);
+    ASSERT_GT(det->addTemplates(ape, "ape", goldenSampler(), lmoIntrinsics(), Size(640, 480)), 40);
     det->train();
     det->save(path, true);
 }
@@ -79,7 +74,7 @@ static void recordScenes()
     const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
     SyntheticSceneParams sp;
     sp.color_noise = 0; // compressible; the depth keeps its sensor noise
-    SceneSynthesizer synth(Renderer::create(Size(640, 480)), goldenK(), sp);
+    SceneSynthesizer synth(Renderer::create(Size(640, 480)), lmoIntrinsics(), sp);
     synth.addObject(ape);
     const Point3f c = ape.center();
     const std::vector<ViewPose> views = goldenSampler().poses(Point3d(c.x, c.y, c.z));
@@ -304,7 +299,7 @@ TEST(Forestmod_Detector, match_preconditions)
     pm.resize(1);
     pm[0].x = pm[0].box.x = 500;
     pm[0].y = pm[0].box.y = 400;
-    EXPECT_THROW(det.estimatePoses(small_depth, goldenK(), pm), cv::Exception);
+    EXPECT_THROW(det.estimatePoses(small_depth, lmoIntrinsics(), pm), cv::Exception);
 }
 
 }} // namespace

@@ -106,7 +106,7 @@ pass re-selects them at the refined pose (the visible rim moves with the pose; d
 static IcpTrial runIcpTrial(MeshRenderer& mr, RNG& rng, double occluded,
                             const ICPParams& params = ICPParams())
 {
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     const Size size(640, 480);
     const double z = rng.uniform(500.0, 1000.0);
     const Vec3d t_gt(z * rng.uniform(-0.2, 0.2), z * rng.uniform(-0.15, 0.15), z);
@@ -217,7 +217,7 @@ static double shiftedProjectionError(const std::vector<Point3f>& pts, const Matx
 TEST(Forestmod_Pose, initial_pose_moves_template_to_match_location)
 {
     const Mesh& mesh = apeMesh();
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     RNG rng(7);
     const Matx33d R_t = uniformRotation(rng);
     const Vec3d t_t(0, 0, 800);
@@ -280,7 +280,7 @@ TEST(Forestmod_Pose, initial_pose_moves_template_to_match_location)
 TEST(Forestmod_Pose, initial_pose_rgbd_distance_from_scene_depth)
 {
     MeshRenderer mr(apeMesh(), Size(640, 480));
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     const Size size(640, 480);
     RNG rng(11);
     for (int trial = 0; trial < 5; ++trial)
@@ -356,7 +356,7 @@ TEST(Forestmod_Pose, scene_depth_from_features_is_robust)
 TEST(Forestmod_Pose, model_points_from_depth_reproject_to_their_pixels)
 {
     MeshRenderer mr(apeMesh(), Size(640, 480));
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     RNG rng(5);
     const Matx33d R = uniformRotation(rng);
     const Vec3d t(30, -20, 700);
@@ -386,7 +386,7 @@ TEST(Forestmod_Pose, model_points_from_depth_reproject_to_their_pixels)
 TEST(Forestmod_Pose, depth_agreement_counts_object_pixels_within_tolerance)
 {
     MeshRenderer mr(apeMesh(), Size(640, 480));
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     const Size size(640, 480);
     RNG rng(17);
     const Matx33d R = uniformRotation(rng);
@@ -513,7 +513,7 @@ TEST(Forestmod_Pose, projection_error_and_box_iou)
     std::vector<Point3f> pts;
     for (int i = 0; i < 20; ++i)
         pts.push_back(Point3f((float)(i * 3 - 30), (float)(i % 7 - 3), 0.f));
-    const Matx33d K = lmoK(), I = Matx33d::eye();
+    const Matx33d K = lmoIntrinsics(), I = Matx33d::eye();
     const Vec3d t(0, 0, 500);
     EXPECT_NEAR(projectionError2D(pts, K, I, t + Vec3d(2, 0, 0), I, t), K(0, 0) * 2 / 500, 1e-9);
     EXPECT_NEAR(projectionError2D(pts, K, I, t, I, t), 0.0, 1e-12);
@@ -557,7 +557,7 @@ TEST(Forestmod_Pose, icp_params_roundtrip_and_validation)
 
     const std::vector<Point3f> pts(100, Point3f(0, 0, 0));
     const Mat depth(48, 64, CV_16UC1, Scalar(500));
-    const Matx33d K = lmoK(), I = Matx33d::eye();
+    const Matx33d K = lmoIntrinsics(), I = Matx33d::eye();
     const Vec3d t(0, 0, 500);
     ICPParams bad;
     bad.max_iterations = 0;
@@ -581,7 +581,7 @@ TEST(Forestmod_Pose, initial_pose_rejects_bad_input)
 {
     Matx33d R;
     Vec3d t;
-    const Matx33d K = lmoK(), I = Matx33d::eye();
+    const Matx33d K = lmoIntrinsics(), I = Matx33d::eye();
     EXPECT_THROW(initialPose(I, Vec3d(0, 0, -5), K, Point2d(1, 1), K, Point2d(1, 1), 0, R, t),
                  cv::Exception);
     EXPECT_THROW(initialPose(I, Vec3d(0, 0, 500), Matx33d::zeros(), Point2d(1, 1), K,

@@ -141,11 +141,6 @@ inline double rotationErrorDeg(const Matx33d& Ra, const Matx33d& Rb)
 }
 
 /** The LM-O camera (BOP lmo camera.json). */
-inline Matx33d lmoK()
-{
-    return Matx33d(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
-}
-
 } // namespace pose_test
 } // namespace opencv_test
 

@@ -36,7 +36,7 @@ through the centre and moved 10 mm; refined with `params`. */
 static EdgeTrial runEdgeTrial(MeshRenderer& mr, RNG& rng, double deg,
                               const EdgeRefineParams& params = EdgeRefineParams())
 {
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     const Vec3d c(mr.mesh.center().x, mr.mesh.center().y, mr.mesh.center().z);
     Matx33d R_gt;
     Vec3d t_gt;
@@ -145,7 +145,7 @@ TEST(Forestmod_PoseEdges, DISABLED_edge_refinement_on_real_frames)
     DetectorParams dp = det->getParams();
     dp.forest.fuzzy_margin = 0.5f;
     det->setParams(dp);
-    ASSERT_GT(det->addTemplates(ape, "obj_000001", ViewSampler(sp), lmoK(), Size(640, 480)), 1000);
+    ASSERT_GT(det->addTemplates(ape, "obj_000001", ViewSampler(sp), lmoIntrinsics(), Size(640, 480)), 1000);
     det->train();
     Ptr<Renderer> renderer = Renderer::create(Size(640, 480));
     const int handle = renderer->addMesh(ape);
@@ -214,7 +214,7 @@ TEST(Forestmod_PoseEdges, DISABLED_edge_refinement_on_real_frames)
 
 TEST(Forestmod_PoseEdges, true_pose_is_a_fixed_point)
 {
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     MeshRenderer mr(apeMesh(), Size(640, 480));
     Matx33d R;
     Vec3d t;

@@ -11,6 +11,7 @@
 #include "opencv2/imgcodecs.hpp"
 #include "opencv2/calib3d.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
+#include "../samples/sample_utils.hpp"
 
 #include <fstream>
 #include <sstream>
@@ -20,6 +21,7 @@
 
 namespace opencv_test {
 using namespace cv::forestmod;
+using namespace cv::forestmod::samples;
 
 /** Root of the optional real data (../shared/data: lmo/, real_rgbd/), or "" when absent. */
 std::string sharedDataPath();

@@ -18,7 +18,7 @@ static Matx33d cameraK(double fx, double fy, double cx, double cy)
     return Matx33d(fx, 0, cx, 0, fy, cy, 0, 0, 1);
 }
 
-static Matx33d lmoK()
+static Matx33d lmoIntrinsics()
 {
     return cameraK(572.4114, 573.57043, 325.2611, 242.04899);
 }
@@ -224,7 +224,7 @@ TEST(Forestmod_Renderer, model_origin_projects_to_K_t)
     Ptr<Renderer> renderer = Renderer::create(size);
     const double side = 150;
     const int h = renderer->addMesh(plateMesh((float)side));
-    const Matx33d Ks[2] = { lmoK(), cameraK(500, 520, 300.7, 260.2) };
+    const Matx33d Ks[2] = { lmoIntrinsics(), cameraK(500, 520, 300.7, 260.2) };
     const Vec3d ts[3] = { Vec3d(0, 0, 800), Vec3d(37.3, -21.7, 650), Vec3d(-120.4, 80.9, 1000) };
     for (int k = 0; k < 2; ++k)
         for (int i = 0; i < 3; ++i)
@@ -271,7 +271,7 @@ TEST(Forestmod_Renderer, projected_vertices_fall_on_the_mask)
 {
     const Mesh ape = Mesh::load(apePath());
     const Size size(640, 480);
-    const Matx33d K = lmoK();
+    const Matx33d K = lmoIntrinsics();
     Ptr<Renderer> renderer = Renderer::create(size);
     const int h = renderer->addMesh(ape);
     const Vec3d rvecs[2] = { Vec3d(2.0, 0.3, -0.4), Vec3d(-1.0, 1.7, 0.6) };

@@ -41,7 +41,7 @@ TEST(Forestmod_Samples, detect_finds_the_shipped_ape)
     DetectorParams p = det->getParams();
     p.forest.fuzzy_margin = 0.5f;
     det->setParams(p);
-    const Matx33d K(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+    const Matx33d K = lmoIntrinsics();
     ASSERT_GT(det->addTemplates(ape, "obj_000001", ViewSampler(sp), K, Size(640, 480)), 1000);
     det->train();
     const std::string model = cv::tempfile(".yml.gz");

@@ -50,8 +50,8 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     template groups load this way). Default true (doc/detector.md, "Search groups"). */
     CV_PROP_RW bool group_templates;
     /** Automatic forest depth when forest.max_depth is 0: max(8, ceil(log2(samples / this))) +
-    ceil(log2(classes)), at most log2(samples) + 1 (doc/detector.md, "Automatic depth"). 0: the
-    paper's 8 / 9. Default 8. */
+    ceil(log2(classes)), at most log2(samples) + 1 (doc/detector.md, "Automatic forest depth").
+    0: the paper's 8 / 9. Default 8. */
     CV_PROP_RW float auto_depth_leaf_samples;
 
     // ---- scan: the locations of the coarsest level through the forests ----
@@ -84,7 +84,7 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     /** With a DepthNormal modality, addTemplate keeps up to this many depth samples per template;
     they are scored at every pyramid refinement level like the features of one more modality
     (relative depths, 0..4 each), give the initial pose and the depth range. 0: off. At most 256.
-    Default 63 (doc/detector.md, "Depth"). */
+    Default 63 (doc/detector.md, "Depth modality"). */
     CV_PROP_RW int depth_samples;
     /** Tolerance (mm) of a depth sample's full score. Default 5 (3 sigma of Kinect-class noise at
     1 m). */
@@ -106,10 +106,11 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_WRAP DetectionStats() { reset(); }
     CV_WRAP void reset();
 
-    CV_PROP double t_quantize_ms;    //!< modalities, spreading, response maps (all levels)
-    CV_PROP double t_tree_ms;        //!< forest traversal of every location (paper: T_tree)
-    CV_PROP double t_valid_ms;       //!< validation + pyramid refinement (paper: T_valid)
-    CV_PROP double t_total_ms;       //!< the whole call
+    CV_PROP double t_quantize_ms;    //!< scene pyramid: quantization, spreading, response maps of
+                                     //!< all levels, the forest's label planes, depth contexts
+    CV_PROP double t_tree_ms;        //!< scan: rejections and forests of every location (T_tree)
+    CV_PROP double t_valid_ms;       //!< validation + pyramid refinement + sorting (T_valid)
+    CV_PROP double t_total_ms;       //!< the whole call (with an automatic training and NMS)
     CV_PROP int64 locations;         //!< locations visited on the coarsest level
     CV_PROP int64 rejected;          //!< locations rejected before validation (all causes)
     CV_PROP int64 rejected_flat;     //!< of which: window nearly without labels in every search group

@@ -1,0 +1,66 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Small helpers shared by the samples, the tests and the perf tests (header only).
+
+#ifndef OPENCV_FORESTMOD_SAMPLE_UTILS_HPP
+#define OPENCV_FORESTMOD_SAMPLE_UTILS_HPP
+
+#include "opencv2/core.hpp"
+#include "opencv2/calib3d.hpp"
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace cv {
+namespace forestmod {
+namespace samples {
+
+/** The non-empty items of a list separated by `sep`. */
+inline std::vector<std::string> splitList(const std::string& s, char sep = ',')
+{
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, sep))
+        if (!item.empty())
+            out.push_back(item);
+    return out;
+}
+
+/** Intrinsics of the LineMOD / LM-O Primesense camera (BOP camera.json). */
+inline Matx33d lmoIntrinsics()
+{
+    return Matx33d(572.4114, 0, 325.2611, 0, 573.57043, 242.04899, 0, 0, 1);
+}
+
+/** The rotation that takes the optical axis onto the ray through pixel p. */
+inline Matx33d rayRotation(const Matx33d& K, Point2d p)
+{
+    Vec3d d = K.inv() * Vec3d(p.x, p.y, 1);
+    d *= 1.0 / cv::norm(d);
+    Vec3d axis = Vec3d(0, 0, 1).cross(d);
+    const double s = cv::norm(axis);
+    if (s < 1e-12)
+        return Matx33d::eye();
+    axis *= std::atan2(s, d[2]) / s;
+    Matx33d R;
+    Rodrigues(axis, R);
+    return R;
+}
+
+/** Angle (degrees) of the rotation between A and B. */
+inline double rotationAngleDeg(const Matx33d& A, const Matx33d& B)
+{
+    const Matx33d D = A.t() * B;
+    const double c = std::max(-1.0, std::min(1.0, (trace(D) - 1) / 2));
+    return std::acos(c) * 180 / CV_PI;
+}
+
+} // namespace samples
+} // namespace forestmod
+} // namespace cv
+
+#endif
