@@ -9,6 +9,7 @@
 #include "precomp.hpp"
 #include "validator.hpp"
 #include "detector_impl.hpp"
+#include "model_check.hpp"
 
 #include "opencv2/core/utils/filesystem.hpp"
 #include "opencv2/forestmod/detector.hpp"
@@ -115,29 +116,7 @@ void DetectorParams::write(FileStorage& fs) const
 
 static void checkParams(const DetectorParams& p)
 {
-    CV_CheckGT(p.chunk_size, 0, "DetectorParams: chunk_size must be positive");
-    CV_CheckGE(p.alpha, 0.f, "DetectorParams: alpha must be in [0, 1]");
-    CV_CheckLE(p.alpha, 1.f, "DetectorParams: alpha must be in [0, 1]");
-    CV_CheckGE(p.grid_size, 2, "DetectorParams: grid_size must be at least 2");
-    CV_CheckLE(p.grid_size, 64, "DetectorParams: grid_size must be at most 64");
-    CV_CheckGE(p.location_step, 0, "DetectorParams: location_step must be >= 0 (0: T / 2)");
-    CV_CheckGT(p.max_survivors, 0, "DetectorParams: max_survivors must be positive");
-    CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");
-    CV_CheckLE(p.depth_samples, 256, "DetectorParams: depth_samples must be at most 256");
-    CV_CheckGT(p.depth_tolerance, 0, "DetectorParams: depth_tolerance must be positive");
-    CV_CheckGE(p.depth_coarse, 0, "DetectorParams: depth_coarse must be 0, 1 or 2");
-    CV_CheckLE(p.depth_coarse, 2, "DetectorParams: depth_coarse must be 0, 1 or 2");
-    CV_CheckGE(p.min_window_labels, 0.f, "DetectorParams: min_window_labels must be in [0, 1]");
-    CV_CheckLE(p.min_window_labels, 1.f, "DetectorParams: min_window_labels must be in [0, 1]");
-    CV_CheckGE(p.depth_range_margin, 0, "DetectorParams: depth_range_margin must be >= 0 (0: off)");
-    CV_CheckGE(p.dominant_window, 1, "DetectorParams: dominant_window must be in [1, 9]");
-    CV_CheckLE(p.dominant_window, 9, "DetectorParams: dominant_window must be in [1, 9]");
-    CV_CheckGE(p.group_size_ratio, 0.f, "DetectorParams: group_size_ratio must be >= 0 (0: no "
-                                        "size limit)");
-    CV_CheckGE(p.max_group_classes, 0, "DetectorParams: max_group_classes must be >= 0 (0: no "
-                                       "limit)");
-    CV_CheckGE(p.auto_depth_leaf_samples, 0.f, "DetectorParams: auto_depth_leaf_samples must be "
-                                               ">= 0 (0: the paper's depth)");
+    detail::checkDetectorParams(p); // issue 18: ranges in model_check.cpp
 }
 
 // stride (coarsest level pixels) of forest queries: location_step, or T / 2 when 0
@@ -604,6 +583,7 @@ int Detector::addTemplates(const Mesh& mesh, const String& class_id, const ViewS
     int added = 0;
     renderTemplates(mesh, sampler, K, size,
                     [&](const TemplateView& v, int done, int total) -> bool {
+                        detail::checkTemplateView(v.mask, v.view_id, v.radius, class_id); // 18
                         if (countNonZero(v.mask) > 0)
                         {
                             const std::vector<Mat> sources = sourcesFor(modalities, v.color,
@@ -1656,6 +1636,9 @@ void Detector::read(const FileNode& fn)
     if (T.empty() || (int)T.size() != levels)
         CV_Error(Error::StsParseError, "forestmod::Detector::read: 'pyramid_levels' and 'T' "
                                        "are missing or disagree");
+    detail::checkPyramidGeometry(T, levels); // issue 18 (model_check)
+    for (size_t i = 0; i < new_modalities.size(); ++i)
+        detail::checkModality(new_modalities[i], (int)i); // issue 18 (model_check)
     DetectorParams p;
     if (!fn["forestmod_params"].empty())
     {
@@ -1783,8 +1766,13 @@ String Detector::readClass(const FileNode& fn, const String& class_id_override)
                                            "templates in a pyramid (corrupt file?)");
         TemplatePyramid tp(expected);
         int k = 0;
+        const String where = cv::format("class '%s', template %d", class_id.c_str(), expected_id);
         for (FileNodeIterator t_it = templates_fn.begin(); t_it != templates_fn.end(); ++t_it, ++k)
+        {
+            detail::checkTemplateNode(*t_it, where); // issue 18 (model_check)
             tp[k].read(*t_it);
+        }
+        detail::checkTemplatePyramid(tp, (int)modalities.size(), pyramid_levels, where); // issue 18
         tpyramids.push_back(tp);
     }
     std::vector<TemplatePose> poses(tpyramids.size());
@@ -1796,7 +1784,11 @@ String Detector::readClass(const FileNode& fn, const String& class_id_override)
                                            "templates differ (corrupt file?)");
         int k = 0;
         for (FileNodeIterator it = poses_fn.begin(); it != poses_fn.end(); ++it, ++k)
+        {
             poses[k] = readPose(*it);
+            detail::checkTemplatePose(poses[k], tpyramids[k][0], cv::format(
+                "class '%s', template %d", class_id.c_str(), k)); // issue 18 (model_check)
+        }
     }
     std::vector<DensePatch> patches(tpyramids.size());
     FileNode patches_fn = fn["forestmod_patches"];
@@ -1821,6 +1813,9 @@ String Detector::readClass(const FileNode& fn, const String& class_id_override)
                     || patches[k].mask.type() != CV_8UC1))
                 CV_Error(Error::StsParseError, "forestmod::Detector::readClass: corrupt template "
                                                "patch");
+            // issue 18 (model_check)
+            detail::checkDensePatch(patches[k], tpyramids[k].back(), (int)modalities.size(),
+                                    cv::format("class '%s', template %d", class_id.c_str(), k));
         }
     }
     std::vector<std::vector<Point3i> > depth(tpyramids.size());
@@ -1842,6 +1837,8 @@ String Detector::readClass(const FileNode& fn, const String& class_id_override)
                                                "samples (CV_32S, 3 columns, at most 256 rows)");
             for (int j = 0; j < m.rows; ++j)
                 depth[k].push_back(Point3i(m.at<int>(j, 0), m.at<int>(j, 1), m.at<int>(j, 2)));
+            detail::checkDepthSamples(depth[k], cv::format("class '%s', template %d",
+                                      class_id.c_str(), k)); // issue 18 (model_check)
         }
     }
     AutoLock lock(impl_->mutex);
@@ -1947,9 +1944,7 @@ void Detector::writeClasses(const String& format) const
 
 void Detector::save(const String& filename, bool overwrite) const
 {
-    if (!overwrite && utils::fs::exists(filename))
-        CV_Error_(Error::StsError, ("forestmod::Detector::save: '%s' exists (pass overwrite = "
-                                    "true to replace it)", filename.c_str()));
+    detail::checkOutputFile(filename, overwrite, "forestmod::Detector::save"); // issue 18
     FileStorage fs(filename, FileStorage::WRITE | FileStorage::BASE64);
     if (!fs.isOpened())
         CV_Error_(Error::StsError, ("forestmod::Detector::save: cannot write '%s'",
