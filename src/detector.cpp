@@ -1708,9 +1708,9 @@ static TemplatePose readPose(const FileNode& fn)
     if (p.valid)
     {
         Mat R, t, K;
-        fn["R"] >> R;
-        fn["t"] >> t;
-        fn["K"] >> K;
+        detail::readMat(fn["R"], R, 9, "template pose R"); // issue 18 (model_check)
+        detail::readMat(fn["t"], t, 3, "template pose t");
+        detail::readMat(fn["K"], K, 9, "template pose K");
         if (R.total() != 9 || t.total() != 3 || K.total() != 9)
             CV_Error(Error::StsParseError, "forestmod::Detector: corrupt template pose "
                                            "(R 3x3, t 3x1, K 3x3 expected)");
@@ -1800,12 +1800,15 @@ String Detector::readClass(const FileNode& fn, const String& class_id_override)
         int k = 0;
         for (FileNodeIterator it = patches_fn.begin(); it != patches_fn.end(); ++it, ++k)
         {
-            (*it)["mask"] >> patches[k].mask;
+            // issue 18 (model_check): the patch is the coarsest template's size + 1
+            const Template& top = tpyramids[k].back();
+            const int64 patch_size = (int64)(top.width + 1) * (top.height + 1);
+            detail::readMat((*it)["mask"], patches[k].mask, patch_size, "template patch mask");
             FileNode q = (*it)["quantized"];
             for (FileNodeIterator qi = q.begin(); qi != q.end(); ++qi)
             {
                 Mat m;
-                *qi >> m;
+                detail::readMat(*qi, m, patch_size, "template patch"); // issue 18
                 patches[k].quantized.push_back(m);
             }
             if (!patches[k].mask.empty()
@@ -1829,7 +1832,7 @@ String Detector::readClass(const FileNode& fn, const String& class_id_override)
         for (FileNodeIterator it = depth_fn.begin(); it != depth_fn.end(); ++it, ++k)
         {
             Mat m;
-            *it >> m;
+            detail::readMat(*it, m, 256 * 3, "template depth samples"); // issue 18
             if (m.empty())
                 continue;
             if (m.type() != CV_32S || m.cols != 3 || m.rows > 256)
@@ -1984,9 +1987,10 @@ void Detector::save(const String& filename, bool overwrite) const
 void Detector::load(const String& filename)
 {
     FileStorage fs;
+    const String text = detail::readModelText(filename); // issue 18 (model_check)
     try
     {
-        fs.open(filename, FileStorage::READ);
+        fs.open(text, FileStorage::READ | FileStorage::MEMORY);
     }
     catch (const cv::Exception& e)
     {

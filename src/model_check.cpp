@@ -10,6 +10,12 @@
 #include "opencv2/core/utils/filesystem.hpp"
 
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#ifdef HAVE_FORESTMOD_ZLIB
+#include <zlib.h>
+#endif
 #ifndef _WIN32
 #include <sys/stat.h>
 #endif
@@ -24,6 +30,11 @@ using linemod::Template;
 static bool finite(double v)
 {
     return std::isfinite(v);
+}
+
+static bool isIntNodeOf(const FileNode& n)
+{
+    return !n.empty() && n.isInt();
 }
 
 void checkDetectorParams(const DetectorParams& p)
@@ -68,6 +79,154 @@ void checkDetectorParams(const DetectorParams& p)
              "DetectorParams: forest.num_trees must be in [1, 1000]");
     CV_Check(p.forest.max_depth, p.forest.max_depth >= 0 && p.forest.max_depth <= 30,
              "DetectorParams: forest.max_depth must be in [0, 30] (0: automatic)");
+}
+
+static const size_t MAX_MODEL_BYTES = size_t(1) << 30;
+
+static int base64Value(char c)
+{
+    if (c >= 'A' && c <= 'Z')
+        return c - 'A';
+    if (c >= 'a' && c <= 'z')
+        return c - 'a' + 26;
+    if (c >= '0' && c <= '9')
+        return c - '0' + 52;
+    if (c == '+')
+        return 62;
+    if (c == '/')
+        return 63;
+    return -1;
+}
+
+// every base64 block of the text starts with a non-empty type header (see readModelText)
+static void checkBase64Blocks(const std::string& text, const String& filename)
+{
+    const char* markers[] = { "!!binary", "$base64$", "type_id=\"binary\"" };
+    for (int mk = 0; mk < 3; ++mk)
+    {
+        const size_t mlen = std::strlen(markers[mk]);
+        for (size_t at = text.find(markers[mk]); at != std::string::npos;
+             at = text.find(markers[mk], at + mlen))
+        {
+            size_t p = at + mlen;
+            bool ok = true;
+            if (mk == 0) // YAML: "!!binary |" as cv::FileStorage writes it
+            {
+                while (p < text.size() && (text[p] == ' ' || text[p] == '\t'))
+                    ++p;
+                ok = p < text.size() && text[p] == '|';
+                ++p;
+            }
+            else if (mk == 2) // XML: the element's content
+            {
+                p = text.find('>', p);
+                ok = p != std::string::npos;
+                ++p;
+            }
+            int v[2] = { -1, -1 }, n = 0;
+            for (; ok && p < text.size() && n < 2; ++p)
+            {
+                const char c = text[p];
+                if (c == ' ' || c == '\t' || c == '\n' || c == '\r')
+                    continue;
+                v[n] = base64Value(c);
+                if (v[n++] < 0)
+                    break;
+            }
+            if (ok && n == 2 && v[0] >= 0 && v[1] >= 0)
+            {
+                const int first = (v[0] << 2) | (v[1] >> 4); // the header's first byte
+                ok = first > ' ' && first < 127;
+            }
+            else
+                ok = false;
+            if (!ok)
+                CV_Error_(Error::StsParseError, ("forestmod model: '%s': a base64 block at byte %d "
+                                                 "has no data type header (corrupt file?)",
+                                                 filename.c_str(), (int)at));
+        }
+    }
+}
+
+String readModelText(const String& filename)
+{
+    std::string text;
+#ifdef HAVE_FORESTMOD_ZLIB
+    gzFile f = gzopen(filename.c_str(), "rb"); // plain files pass through
+    if (!f)
+        CV_Error_(Error::StsError, ("forestmod::Detector::load: cannot open '%s'",
+                                    filename.c_str()));
+    std::vector<char> buf(1 << 16);
+    for (;;)
+    {
+        const int got = gzread(f, &buf[0], (unsigned)buf.size());
+        if (got < 0)
+        {
+            gzclose(f);
+            CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is not a readable "
+                                             "(gzip) file", filename.c_str()));
+        }
+        if (got == 0)
+            break;
+        text.append(&buf[0], (size_t)got);
+        if (text.size() > MAX_MODEL_BYTES)
+        {
+            gzclose(f);
+            CV_Error_(Error::StsOutOfRange, ("forestmod::Detector::load: '%s' holds more than "
+                                             "1 GiB of text", filename.c_str()));
+        }
+    }
+    gzclose(f);
+#else
+    std::ifstream f(filename.c_str(), std::ios::binary);
+    if (!f.good())
+        CV_Error_(Error::StsError, ("forestmod::Detector::load: cannot open '%s'",
+                                    filename.c_str()));
+    std::ostringstream ss;
+    ss << f.rdbuf();
+    text = ss.str();
+    if (text.size() > MAX_MODEL_BYTES)
+        CV_Error_(Error::StsOutOfRange, ("forestmod::Detector::load: '%s' holds more than 1 GiB",
+                                         filename.c_str()));
+    if (text.size() >= 2 && (uchar)text[0] == 0x1f && (uchar)text[1] == 0x8b)
+        CV_Error_(Error::StsNotImplemented, ("forestmod::Detector::load: '%s' is compressed and "
+                                             "this build has no zlib", filename.c_str()));
+#endif
+    if (text.empty())
+        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is empty",
+                                         filename.c_str()));
+    checkBase64Blocks(text, filename);
+    return text;
+}
+
+void readMat(const FileNode& fn, Mat& m, int64 max_elements, const String& where)
+{
+    m.release();
+    if (fn.empty() || fn.isNone())
+        return;
+    if (!fn.isMap() || !fn["sizes"].empty())
+        CV_Error_(Error::StsParseError, ("forestmod model: %s: not a 2-D matrix", where.c_str()));
+    const FileNode rows = fn["rows"], cols = fn["cols"], dt = fn["dt"], data = fn["data"];
+    if (!isIntNodeOf(rows) || !isIntNodeOf(cols) || !dt.isString())
+        CV_Error_(Error::StsParseError, ("forestmod model: %s: a matrix needs integer rows, cols "
+                                         "and a dt string", where.c_str()));
+    const String type = dt;
+    int cn = 1;
+    if (!type.empty() && type[0] >= '1' && type[0] <= '4')
+        cn = type[0] - '0';
+    const int64 r = (int)rows, c = (int)cols, n = r * c * cn;
+    if (r < 0 || c < 0 || n > max_elements)
+        CV_Error_(Error::StsParseError, ("forestmod model: %s: a %lld x %lld matrix (%d channels), "
+                                         "at most %lld values expected", where.c_str(),
+                                         (long long)r, (long long)c, cn,
+                                         (long long)max_elements));
+    if (n == 0)
+        return;
+    if (!data.isSeq() || (int64)data.size() != n)
+        CV_Error_(Error::StsParseError, ("forestmod model: %s: a %lld x %lld matrix (%d channels) "
+                                         "whose data holds %d values", where.c_str(),
+                                         (long long)r, (long long)c, cn, (int)data.size()));
+    fn >> m;
 }
 
 void checkPyramidGeometry(const std::vector<int>& T, int levels)

@@ -33,6 +33,18 @@ enum ModelLimits
 constructor, setParams and the model loader alike. */
 void checkDetectorParams(const DetectorParams& p);
 
+/** The text of a model file (a .gz file decompressed), for cv::FileStorage::MEMORY: at most
+1 GiB, and every base64 block (YAML "!!binary |", JSON "$base64$", XML type_id="binary")
+starting with a data type header: OpenCV 4.6's base64 reader loops forever on a block whose
+header is empty. */
+String readModelText(const String& filename);
+
+/** cv::read of a matrix node, after checking that it is a 2-D matrix ("opencv-matrix") of at
+most max_elements values (rows x cols x channels) whose data holds exactly that many values:
+OpenCV's reader allocates rows x cols first, whatever the data holds. An absent node gives an
+empty matrix. */
+void readMat(const FileNode& fn, Mat& m, int64 max_elements, const String& where);
+
 /** pyramid_levels in [1, MAX_PYRAMID_LEVELS], one T per level, each in [1, MAX_T]. */
 void checkPyramidGeometry(const std::vector<int>& T_at_level, int pyramid_levels);
 

@@ -186,7 +186,8 @@ namespace {
 
 struct PlyProperty
 {
-    int size;       // bytes of a scalar (binary), 0 when unknown
+    int size;       // bytes of a value
+    bool integral;  // an integer type (list counts, indices)
     bool list;
     int count_size; // bytes of a list's count
 };
@@ -200,14 +201,18 @@ struct PlyElement
 
 } // namespace
 
-static int plyTypeSize(const std::string& t)
+// bytes of a PLY scalar type, 0 when unknown; *integral: an integer type
+static int plyTypeSize(const std::string& t, bool* integral)
 {
+    *integral = true;
     if (t == "char" || t == "uchar" || t == "int8" || t == "uint8")
         return 1;
     if (t == "short" || t == "ushort" || t == "int16" || t == "uint16")
         return 2;
-    if (t == "int" || t == "uint" || t == "int32" || t == "uint32" || t == "float"
-        || t == "float32")
+    if (t == "int" || t == "uint" || t == "int32" || t == "uint32")
+        return 4;
+    *integral = false;
+    if (t == "float" || t == "float32")
         return 4;
     if (t == "double" || t == "float64")
         return 8;
@@ -222,8 +227,27 @@ static uint64 plyReadCount(const uchar* p, int size, bool big_endian)
     return v;
 }
 
-// Throws when a PLY file's header is beyond the limits or its data is not exactly as long as
-// the header declares. Files that do not start with "ply" are left to assimp.
+// an ASCII PLY value: the whole token is a number (an integer for integer types)
+static bool plyNumber(const std::string& tok, bool integral, long long* value)
+{
+    if (tok.empty())
+        return false;
+    char* end = 0;
+    if (integral)
+    {
+        const long long v = std::strtoll(tok.c_str(), &end, 10);
+        if (value)
+            *value = v;
+    }
+    else
+        (void)std::strtod(tok.c_str(), &end);
+    return *end == '\0';
+}
+
+// Throws unless a file that starts with "ply" has a header this check understands, counts
+// within Mesh's limits and data exactly as long as the header declares, every ASCII value a
+// number; assimp then reads a well-formed file. Files that do not start with "ply" are left to
+// assimp.
 static void checkPly(const String& path)
 {
     std::ifstream f(path.c_str(), std::ios::binary);
@@ -234,7 +258,7 @@ static void checkPly(const String& path)
     int format = -1;
     std::vector<PlyElement> elements;
     bool end_header = false;
-    for (int n = 0; n < 100000 && std::getline(f, line); ++n)
+    for (int n = 0; n < 10000 && std::getline(f, line); ++n)
     {
         if (!line.empty() && line[line.size() - 1] == '\r')
             line.erase(line.size() - 1);
@@ -246,28 +270,28 @@ static void checkPly(const String& path)
             end_header = true;
             break;
         }
+        if (key == "comment" || key == "obj_info")
+            continue;
+        bool ok = true;
         if (key == "format")
         {
-            std::string name;
-            ls >> name;
+            std::string name, version;
+            ls >> name >> version;
             for (int i = 0; i < 3; ++i)
                 if (name == fmt_names[i])
                     format = i;
+            ok = format >= 0 && version == "1.0";
         }
         else if (key == "element")
         {
             PlyElement e;
             std::string count;
             ls >> e.name >> count;
-            char* end = 0;
-            const long long c = std::strtoll(count.c_str(), &end, 10);
-            if (count.empty() || *end != '\0' || c < 0)
-                CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY element '%s' has count "
-                                                 "'%s'", path.c_str(), e.name.c_str(),
-                                                 count.c_str()));
+            long long c = -1;
+            ok = !e.name.empty() && plyNumber(count, true, &c) && c >= 0;
             const int64 limit = e.name == "face" ? (int64)Mesh::MAX_FACES
                                                  : (int64)Mesh::MAX_VERTICES;
-            if (c > limit)
+            if (ok && c > limit)
                 CV_Error_(Error::StsOutOfRange, ("Mesh::load: '%s': the PLY header declares %lld "
                                                  "'%s' elements, more than the limit of %lld "
                                                  "(Mesh::MAX_VERTICES / MAX_FACES)",
@@ -276,13 +300,10 @@ static void checkPly(const String& path)
             e.count = c;
             elements.push_back(e);
         }
-        else if (key == "property")
+        else if (key == "property" && !elements.empty())
         {
-            if (elements.empty())
-                CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY property before any "
-                                                 "element", path.c_str()));
             PlyProperty pr;
-            std::string type;
+            std::string type, name;
             ls >> type;
             pr.list = type == "list";
             pr.count_size = 0;
@@ -290,16 +311,30 @@ static void checkPly(const String& path)
             {
                 std::string count_type, item_type;
                 ls >> count_type >> item_type;
-                pr.count_size = plyTypeSize(count_type);
-                pr.size = plyTypeSize(item_type);
+                bool count_integral = false;
+                pr.count_size = plyTypeSize(count_type, &count_integral);
+                pr.size = plyTypeSize(item_type, &pr.integral);
+                ok = count_integral && pr.count_size > 0 && pr.size > 0;
             }
             else
-                pr.size = plyTypeSize(type);
+            {
+                pr.size = plyTypeSize(type, &pr.integral);
+                ok = pr.size > 0;
+            }
+            ls >> name;
+            ok = ok && !name.empty();
             elements.back().props.push_back(pr);
         }
+        else
+            ok = false;
+        if (!ok)
+            CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY header line %d not "
+                                             "understood: '%s'", path.c_str(), n + 2,
+                                             line.substr(0, 80).c_str()));
     }
     if (!end_header || format < 0)
-        return; // not a PLY header this check understands: assimp reports it
+        CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY header without %s", path.c_str(),
+                                         format < 0 ? "a format line" : "end_header"));
     const std::streamoff data_begin = f.tellg();
     f.seekg(0, std::ios::end);
     const std::streamoff data_size = f.tellg() - data_begin;
@@ -361,42 +396,39 @@ static void checkPly(const String& path)
             {
                 const PlyProperty& pr = el.props[k];
                 bool ok = true;
-                int64 items = 1;
+                long long items = 1;
                 if (format == 0)
                 {
                     ok = token();
-                    if (ok && pr.list)
-                    {
-                        char* end = 0;
-                        items = std::strtoll(tok.c_str(), &end, 10);
-                        ok = *end == '\0';
-                        if (ok && (items < 0 || items > Mesh::MAX_FACE_INDICES))
-                            CV_Error_(Error::StsOutOfRange,
-                                      ("Mesh::load: '%s': PLY '%s' %lld has a list of %lld "
-                                       "values (at most %d)", path.c_str(), el.name.c_str(),
-                                       (long long)r, (long long)items,
-                                       (int)Mesh::MAX_FACE_INDICES));
-                        for (int64 i = 0; ok && i < items; ++i)
-                            ok = token();
-                    }
+                    if (ok && !plyNumber(tok, pr.list || pr.integral, pr.list ? &items : 0))
+                        CV_Error_(Error::StsParseError,
+                                  ("Mesh::load: '%s': PLY '%s' %lld holds '%s' where a number "
+                                   "is expected", path.c_str(), el.name.c_str(), (long long)r,
+                                   tok.c_str()));
                 }
-                else
+                else if (pr.list)
                 {
-                    if (pr.size == 0 || (pr.list && (pr.count_size == 0 || pr.count_size > 8)))
-                        return; // a type this check does not know: assimp reports it
-                    if (pr.list)
-                    {
-                        ok = read(pr.count_size);
-                        items = ok ? (int64)plyReadCount(bytes, pr.count_size, big_endian) : 0;
-                        if (ok && (items < 0 || items > Mesh::MAX_FACE_INDICES))
-                            CV_Error_(Error::StsOutOfRange,
-                                      ("Mesh::load: '%s': PLY '%s' %lld has a list of %lld "
-                                       "values (at most %d)", path.c_str(), el.name.c_str(),
-                                       (long long)r, (long long)items,
-                                       (int)Mesh::MAX_FACE_INDICES));
-                    }
-                    for (int64 i = 0; ok && i < items; ++i)
+                    ok = read(pr.count_size);
+                    items = ok ? (long long)plyReadCount(bytes, pr.count_size, big_endian) : 0;
+                }
+                if (ok && pr.list && (items < 0 || items > Mesh::MAX_FACE_INDICES))
+                    CV_Error_(Error::StsOutOfRange,
+                              ("Mesh::load: '%s': PLY '%s' %lld has a list of %lld values (at "
+                               "most %d)", path.c_str(), el.name.c_str(), (long long)r, items,
+                               (int)Mesh::MAX_FACE_INDICES));
+                for (long long i = 0; ok && i < (pr.list ? items : (format == 0 ? 0 : 1)); ++i)
+                {
+                    if (format != 0)
                         ok = read(pr.size);
+                    else
+                    {
+                        ok = token();
+                        if (ok && !plyNumber(tok, pr.integral, 0))
+                            CV_Error_(Error::StsParseError,
+                                      ("Mesh::load: '%s': PLY '%s' %lld holds '%s' where a "
+                                       "number is expected", path.c_str(), el.name.c_str(),
+                                       (long long)r, tok.c_str()));
+                    }
                 }
                 if (!ok)
                     CV_Error_(Error::StsParseError,
