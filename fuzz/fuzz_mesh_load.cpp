@@ -12,6 +12,7 @@
 #include <opencv2/core/utils/logger.hpp>
 #include <opencv2/forestmod.hpp>
 
+#include <cctype>
 #include <cstring>
 
 extern "C" int LLVMFuzzerInitialize(int*, char***)
@@ -25,7 +26,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     static const std::string path = forestmod_fuzz::inputPath(".ply");
     // PLY only (forestmod's meshes, BOP's format): other content goes straight to assimp's other
     // readers, whose hangs and aborts are assimp's (Debian's build keeps its assertions on)
-    if (size < 4 || std::memcmp(data, "ply", 3) != 0 || (data[3] != '\n' && data[3] != '\r'))
+    if (size < 4 || std::memcmp(data, "ply", 3) != 0 || !std::isspace(data[3]))
         return 0;
     if (!forestmod_fuzz::writeInput(path, data, size))
         return 0;

@@ -580,10 +580,11 @@ int Detector::addTemplates(const Mesh& mesh, const String& class_id, const ViewS
     if (modalities.empty())
         CV_Error(Error::StsError, "forestmod::Detector::addTemplates: no modalities");
     setMesh(class_id, mesh);
-    int added = 0;
+    int added = 0, views = 0;
     renderTemplates(mesh, sampler, K, size,
                     [&](const TemplateView& v, int done, int total) -> bool {
                         detail::checkTemplateView(v.mask, v.view_id, v.radius, class_id); // 18
+                        views = done;
                         if (countNonZero(v.mask) > 0)
                         {
                             const std::vector<Mat> sources = sourcesFor(modalities, v.color,
@@ -593,6 +594,7 @@ int Detector::addTemplates(const Mesh& mesh, const String& class_id, const ViewS
                         }
                         return progress ? progress(done, total) : true;
                     });
+    detail::checkViewsGaveTemplates(added, views, class_id); // issue 18 (model_check)
     return added;
 }
 
@@ -1376,8 +1378,10 @@ void Detector::matchImpl(const std::vector<Mat>& sources, float threshold,
                         int known = 0, inside = 0;
                         for (size_t k = 0; k < impl.depth_probe.size() && !inside; ++k)
                         {
-                            const int x = (c * S + impl.depth_probe[k].x) << L;
-                            const int y = (r * S + impl.depth_probe[k].y) << L;
+                            // issue 18: probes left of / above the frame are negative:
+                            // multiply, a left shift of a negative value is undefined
+                            const int x = (c * S + impl.depth_probe[k].x) * (1 << L);
+                            const int y = (r * S + impl.depth_probe[k].y) * (1 << L);
                             if (x < 0 || y < 0 || x >= scene_depth.cols || y >= scene_depth.rows)
                                 continue;
                             const int z = scene_depth.at<ushort>(y, x);

@@ -438,6 +438,15 @@ void checkTemplateView(const Mat& mask, int view_id, double radius, const String
                                     class_id.c_str(), view_id, radius, mask.cols, mask.rows));
 }
 
+void checkViewsGaveTemplates(int added, int views, const String& class_id)
+{
+    if (added == 0 && views > 0)
+        CV_Error_(Error::StsError, ("forestmod::Detector::addTemplates: class '%s': none of the "
+                                    "%d rendered views gave a template (too few features: an "
+                                    "object too small for the radii, or a degenerate mesh?)",
+                                    class_id.c_str(), views));
+}
+
 static bool isDanglingSymlink(const String& path)
 {
 #ifndef _WIN32

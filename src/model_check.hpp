@@ -85,6 +85,9 @@ object pixel or covers the whole frame (a degenerate mesh, or radii that do not 
 size), naming the view, its radius and the class. */
 void checkTemplateView(const Mat& mask, int view_id, double radius, const String& class_id);
 
+/** addTemplates after rendering `views` views: raises when none of them gave a template. */
+void checkViewsGaveTemplates(int added, int views, const String& class_id);
+
 /** A file about to be written: raises when it exists and overwrite is false, and always when
 it is a dangling symbolic link (it is not written through: the link would create a file
 elsewhere). `who` starts the message. */

@@ -14,6 +14,7 @@
 
 #include <cctype>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -251,9 +252,15 @@ static bool plyNumber(const std::string& tok, bool integral, long long* value)
 static void checkPly(const String& path)
 {
     std::ifstream f(path.c_str(), std::ios::binary);
+    char magic[4] = { 0, 0, 0, 0 };
+    f.read(magic, 4);
+    if (f.gcount() < 4 || std::memcmp(magic, "ply", 3) != 0 || !std::isspace((uchar)magic[3]))
+        return;
+    f.seekg(0);
     std::string line;
     if (!std::getline(f, line) || (line != "ply" && line != "ply\r"))
-        return;
+        CV_Error_(Error::StsParseError, ("Mesh::load: '%s': the first line of a PLY file must be "
+                                         "'ply' (lines end with \\n or \\r\\n)", path.c_str()));
     const char* fmt_names[] = { "ascii", "binary_little_endian", "binary_big_endian" };
     int format = -1;
     std::vector<PlyElement> elements;
