@@ -13,6 +13,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "output_path.hpp"
 #include <cstdio>
 #include <iostream>
 #include <map>
@@ -117,11 +118,9 @@ int main(int argc, char** argv)
         std::cerr << "forestmod_detect: model not found: " << model << "\n";
         return 1;
     }
-    if (!out.empty() && cv::utils::fs::exists(out) && !parser.has("force"))
-    {
-        std::cerr << "forestmod_detect: " << out << " exists; pass --force to overwrite it\n";
+    if (!out.empty()
+        && forestmod_samples::refuseOutput("forestmod_detect", out, parser.has("force")))
         return 1;
-    }
     try
     {
         cv::Matx33d K = lmoIntrinsics();

@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/rgbd/linemod.hpp>
 
+#include "output_path.hpp"
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -963,11 +964,8 @@ int main(int argc, char** argv)
                      "--threads and --train_threads >= 1, --threshold in (0, 100]\n";
         return 1;
     }
-    if (!json_path.empty() && cv::utils::fs::exists(json_path) && !force)
-    {
-        std::cerr << "forestmod_eval: " << json_path << " exists; pass --force to overwrite it\n";
+    if (!json_path.empty() && forestmod_samples::refuseOutput("forestmod_eval", json_path, force))
         return 1;
-    }
     cv::setNumThreads(threads);
 
     try
@@ -1172,12 +1170,8 @@ int main(int argc, char** argv)
                     heat_files.push_back(heatFile(heat_dir, "all", frames[i]));
             }
             for (size_t i = 0; i < heat_files.size(); ++i)
-                if (cv::utils::fs::exists(heat_files[i]) && !force)
-                {
-                    std::cerr << "forestmod_eval: " << heat_files[i]
-                              << " exists; pass --force to overwrite it\n";
+                if (forestmod_samples::refuseOutput("forestmod_eval", heat_files[i], force))
                     return 1;
-                }
             cv::utils::fs::createDirectories(heat_dir);
         }
 

@@ -11,6 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "output_path.hpp"
 #include <iostream>
 
 static const char* keys = "{help h usage ? |      | print this message }"
@@ -42,11 +43,8 @@ int main(int argc, char** argv)
         std::cerr << "forestmod_hue: an input image and an output path are required (see --help)\n";
         return 1;
     }
-    if (cv::utils::fs::exists(output) && !parser.has("force"))
-    {
-        std::cerr << "forestmod_hue: " << output << " exists; pass --force to overwrite it\n";
+    if (forestmod_samples::refuseOutput("forestmod_hue", output, parser.has("force")))
         return 1;
-    }
     cv::Mat image = cv::imread(input, cv::IMREAD_COLOR);
     if (image.empty())
     {

@@ -17,6 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "output_path.hpp"
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -156,6 +157,12 @@ int main(int argc, char** argv)
         width = (int)fs["width"];
         height = (int)fs["height"];
     }
+    if (forestmod_samples::isDanglingSymlink(out))
+    {
+        std::cerr << "forestmod_render: '" << out << "' is a dangling symbolic link; it is not "
+                  << "written through (remove it or choose another folder)\n";
+        return 1;
+    }
     if (cv::utils::fs::exists(out))
     {
         if (!cv::utils::fs::isDirectory(out))
@@ -218,7 +225,17 @@ int main(int argc, char** argv)
         const int64 t0 = cv::getTickCount();
         bool write_failed = false;
         double last_print = -1.0;
+        int bad_view = -1, bad_px = 0;
         auto sink = [&](const cv::forestmod::TemplateView& v, int done, int) -> bool {
+            // a view without an object pixel, or covered by the object, is not a template
+            // view: a degenerate mesh, a wrong --scale or radii that do not fit the mesh
+            const int px = cv::countNonZero(v.mask);
+            if (px == 0 || px == (int)v.mask.total())
+            {
+                bad_view = v.view_id;
+                bad_px = px;
+                return false;
+            }
             const std::string id = cv::format("%06d", v.view_id);
             const std::string mask_name = cv::format("%06d_%06d.png", v.view_id, 0);
             if (!cv::imwrite(out + "/rgb/" + id + ".png", v.color)
@@ -238,7 +255,6 @@ int main(int argc, char** argv)
             // BOP's box: (xmin, ymin, xmax - xmin, ymax - ymin); the view is centred on the
             // object, so the whole silhouette is in the image unless the object is very close
             const cv::Rect& b = v.bbox;
-            const int px = cv::countNonZero(v.mask);
             const std::string box = b.area() > 0 ? cv::format("[%d, %d, %d, %d]", b.x, b.y,
                                                               b.width - 1, b.height - 1)
                                                  : std::string("[-1, -1, -1, -1]");
@@ -264,6 +280,15 @@ int main(int argc, char** argv)
         };
         cv::forestmod::renderTemplates(mesh, sampler, K, cv::Size(width, height), sink);
         std::fprintf(stderr, "\n");
+        if (bad_view >= 0)
+        {
+            std::cerr << "forestmod_render: view " << bad_view << ": "
+                      << (bad_px == 0 ? "no pixel of the object is visible"
+                                      : "the object covers the whole frame")
+                      << " (a degenerate mesh, a wrong --scale or --radii that do not fit the "
+                      << "mesh's size); stopped, the output in " << out << " is incomplete\n";
+            return 1;
+        }
         if (write_failed)
         {
             std::cerr << "forestmod_render: cannot write images into " << out << "\n";

@@ -9,6 +9,7 @@
 #include <opencv2/core/utils/filesystem.hpp>
 #include <opencv2/forestmod.hpp>
 
+#include "output_path.hpp"
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -95,11 +96,8 @@ int main(int argc, char** argv)
         std::cerr << "forestmod_train: --modalities is line or linemod\n";
         return 1;
     }
-    if (cv::utils::fs::exists(out) && !parser.has("force"))
-    {
-        std::cerr << "forestmod_train: " << out << " exists; pass --force to overwrite it\n";
+    if (forestmod_samples::refuseOutput("forestmod_train", out, parser.has("force")))
         return 1;
-    }
     for (size_t i = 0; i < meshes.size(); ++i)
         if (!cv::utils::fs::exists(meshes[i]))
         {

@@ -7,6 +7,7 @@
 
 #include "precomp.hpp"
 #include "detector_impl.hpp"
+#include "model_check.hpp"
 #include "scene_pyramid.hpp"
 #include "scan.hpp"
 #include "validator.hpp"
@@ -142,9 +143,11 @@ int Detector::addTemplates(const Mesh& mesh, const String& class_id, const ViewS
     if (modalities.empty())
         CV_Error(Error::StsError, "forestmod::Detector::addTemplates: no modalities");
     setMesh(class_id, mesh);
-    int added = 0;
+    int added = 0, views = 0;
     renderTemplates(mesh, sampler, K, size,
                     [&](const TemplateView& v, int done, int total) -> bool {
+                        detail::checkTemplateView(v.mask, v.view_id, v.radius, class_id);
+                        views = done;
                         if (countNonZero(v.mask) > 0
                             && addTemplate(detail::sourcesFor(modalities, impl_->roles, v.color,
                                                               v.depth),
@@ -152,6 +155,7 @@ int Detector::addTemplates(const Mesh& mesh, const String& class_id, const ViewS
                             ++added;
                         return progress ? progress(done, total) : true;
                     });
+    detail::checkViewsGaveTemplates(added, views, class_id);
     return added;
 }
 

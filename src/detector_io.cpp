@@ -8,6 +8,7 @@
 #include "precomp.hpp"
 #include "detector_impl.hpp"
 #include "params_io.hpp"
+#include "model_check.hpp"
 
 #include "opencv2/core/utils/filesystem.hpp"
 #include "opencv2/core/utils/logger.hpp"
@@ -74,25 +75,7 @@ namespace detail {
 
 void checkParams(const DetectorParams& p)
 {
-    CV_CheckGT(p.chunk_size, 0, "DetectorParams: chunk_size must be positive");
-    CV_CheckGE(p.alpha, 0.f, "DetectorParams: alpha must be in [0, 1]");
-    CV_CheckLE(p.alpha, 1.f, "DetectorParams: alpha must be in [0, 1]");
-    CV_CheckGE(p.grid_size, 2, "DetectorParams: grid_size must be at least 2");
-    CV_CheckLE(p.grid_size, 64, "DetectorParams: grid_size must be at most 64");
-    CV_CheckGE(p.location_step, 0, "DetectorParams: location_step must be >= 0 (0: T / 2)");
-    CV_CheckGT(p.max_survivors, 0, "DetectorParams: max_survivors must be positive");
-    CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");
-    CV_CheckLE(p.depth_samples, 256, "DetectorParams: depth_samples must be at most 256");
-    CV_CheckGT(p.depth_tolerance, 0, "DetectorParams: depth_tolerance must be positive");
-    CV_CheckGE(p.min_window_labels, 0.f, "DetectorParams: min_window_labels must be in [0, 1]");
-    CV_CheckLE(p.min_window_labels, 1.f, "DetectorParams: min_window_labels must be in [0, 1]");
-    CV_CheckGE(p.depth_range_margin, 0, "DetectorParams: depth_range_margin must be >= 0 (0: off)");
-    CV_CheckGE(p.dominant_window, 1, "DetectorParams: dominant_window must be in [1, 9]");
-    CV_CheckLE(p.dominant_window, 9, "DetectorParams: dominant_window must be in [1, 9]");
-    CV_CheckGE(p.group_size_ratio, 0.f, "DetectorParams: group_size_ratio must be >= 0 (0: no "
-                                        "size limit)");
-    CV_CheckGE(p.auto_depth_leaf_samples, 0.f, "DetectorParams: auto_depth_leaf_samples must be "
-                                               ">= 0 (0: the paper's depth)");
+    checkDetectorParams(p); // the ranges live in model_check.cpp with the model limits
 }
 
 } // namespace detail
@@ -146,6 +129,9 @@ void Detector::read(const FileNode& fn)
     if (T.empty() || (int)T.size() != levels)
         CV_Error(Error::StsParseError, "forestmod::Detector::read: 'pyramid_levels' and 'T' "
                                        "are missing or disagree");
+    detail::checkPyramidGeometry(T, levels);
+    for (size_t i = 0; i < new_modalities.size(); ++i)
+        detail::checkModality(new_modalities[i], (int)i);
     const DetectorParams p = readModelParams(fn["forestmod_params"]);
     detail::checkParams(p);
     AutoLock lock(impl_->mutex);
@@ -196,9 +182,9 @@ static TemplatePose readPose(const FileNode& fn)
     if (p.valid)
     {
         Mat R, t, K;
-        fn["R"] >> R;
-        fn["t"] >> t;
-        fn["K"] >> K;
+        detail::readMat(fn["R"], R, 9, "template pose R");
+        detail::readMat(fn["t"], t, 3, "template pose t");
+        detail::readMat(fn["K"], K, 9, "template pose K");
         if (R.total() != 9 || t.total() != 3 || K.total() != 9)
             CV_Error(Error::StsParseError, "forestmod::Detector: corrupt template pose "
                                            "(R 3x3, t 3x1, K 3x3 expected)");
@@ -213,25 +199,30 @@ static TemplatePose readPose(const FileNode& fn)
     return p;
 }
 
-static void readPatch(const FileNode& fn, size_t num_modalities, detail::DensePatch& patch)
+// A dense patch is the coarsest template's size + 1, one quantized plane per modality.
+static void readPatch(const FileNode& fn, size_t num_modalities, const linemod::Template& coarsest,
+                      const String& where, detail::DensePatch& patch)
 {
-    fn["mask"] >> patch.mask;
+    const int64 patch_size = (int64)(coarsest.width + 1) * (coarsest.height + 1);
+    detail::readMat(fn["mask"], patch.mask, patch_size, "template patch mask");
     FileNode q = fn["quantized"];
     for (FileNodeIterator qi = q.begin(); qi != q.end(); ++qi)
     {
         Mat m;
-        *qi >> m;
+        detail::readMat(*qi, m, patch_size, "template patch");
         patch.quantized.push_back(m);
     }
     if (!patch.mask.empty()
         && (patch.quantized.size() != num_modalities || patch.mask.type() != CV_8UC1))
         CV_Error(Error::StsParseError, "forestmod::Detector::readClass: corrupt template patch");
+    detail::checkDensePatch(patch, coarsest, (int)num_modalities, where);
 }
 
-static void readDepthSamples(const FileNode& fn, std::vector<Point3i>& depth)
+static void readDepthSamples(const FileNode& fn, const String& where,
+                             std::vector<Point3i>& depth)
 {
     Mat m;
-    fn >> m;
+    detail::readMat(fn, m, 256 * 3, "template depth samples");
     if (m.empty())
         return;
     if (m.type() != CV_32S || m.cols != 3 || m.rows > 256)
@@ -239,11 +230,13 @@ static void readDepthSamples(const FileNode& fn, std::vector<Point3i>& depth)
                                        "(CV_32S, 3 columns, at most 256 rows)");
     for (int j = 0; j < m.rows; ++j)
         depth.push_back(Point3i(m.at<int>(j, 0), m.at<int>(j, 1), m.at<int>(j, 2)));
+    detail::checkDepthSamples(depth, where);
 }
 
 // The optional per-template sequences of a class (forestmod_poses, _patches, _depth): one entry
 // per template when present.
-static void readRecords(const FileNode& fn, size_t num_modalities,
+static void readRecords(const FileNode& fn, size_t num_modalities, const String& class_id,
+                        const std::vector<TemplatePyramid>& tps,
                         std::vector<TemplateRecord>& records)
 {
     const char* keys[] = { "forestmod_poses", "forestmod_patches", "forestmod_depth" };
@@ -258,12 +251,16 @@ static void readRecords(const FileNode& fn, size_t num_modalities,
         size_t i = 0;
         for (FileNodeIterator it = seq.begin(); it != seq.end(); ++it, ++i)
         {
+            const String where = cv::format("class '%s', template %d", class_id.c_str(), (int)i);
             if (k == 0)
+            {
                 records[i].pose = readPose(*it);
+                detail::checkTemplatePose(records[i].pose, tps[i][0], where);
+            }
             else if (k == 1)
-                readPatch(*it, num_modalities, records[i].patch);
+                readPatch(*it, num_modalities, tps[i].back(), where, records[i].patch);
             else
-                readDepthSamples(*it, records[i].depth);
+                readDepthSamples(*it, where, records[i].depth);
         }
     }
 }
@@ -288,11 +285,13 @@ static void checkClassHeader(const FileNode& fn, const std::vector<Ptr<Modality>
                                        "with another number of pyramid levels");
 }
 
-static void readPyramids(const FileNode& fn, int expected, std::vector<TemplatePyramid>& tps)
+static void readPyramids(const FileNode& fn, int num_modalities, int pyramid_levels,
+                         const String& class_id, std::vector<TemplatePyramid>& tps)
 {
     FileNode tps_fn = fn["template_pyramids"];
     if (tps_fn.empty() || !tps_fn.isSeq())
         CV_Error(Error::StsParseError, "forestmod::Detector::readClass: no template_pyramids");
+    const int expected = num_modalities * pyramid_levels;
     int expected_id = 0;
     for (FileNodeIterator it = tps_fn.begin(); it != tps_fn.end(); ++it, ++expected_id)
     {
@@ -303,10 +302,15 @@ static void readPyramids(const FileNode& fn, int expected, std::vector<TemplateP
         if ((int)templates_fn.size() != expected)
             CV_Error(Error::StsParseError, "forestmod::Detector::readClass: wrong number of "
                                            "templates in a pyramid (corrupt file?)");
+        const String where = cv::format("class '%s', template %d", class_id.c_str(), expected_id);
         TemplatePyramid tp(expected);
         int k = 0;
         for (FileNodeIterator t_it = templates_fn.begin(); t_it != templates_fn.end(); ++t_it, ++k)
+        {
+            detail::checkTemplateNode(*t_it, where);
             tp[k].read(*t_it);
+        }
+        detail::checkTemplatePyramid(tp, num_modalities, pyramid_levels, where);
         tps.push_back(tp);
     }
 }
@@ -322,9 +326,9 @@ String Detector::readClass(const FileNode& fn, const String& class_id_override)
     if (class_id.empty())
         CV_Error(Error::StsParseError, "forestmod::Detector::readClass: no class_id");
     std::vector<TemplatePyramid> tps;
-    readPyramids(fn, pyramid_levels * static_cast<int>(modalities.size()), tps);
+    readPyramids(fn, static_cast<int>(modalities.size()), pyramid_levels, class_id, tps);
     std::vector<TemplateRecord> records(tps.size());
-    readRecords(fn, modalities.size(), records);
+    readRecords(fn, modalities.size(), class_id, tps, records);
     AutoLock lock(impl_->mutex);
     impl_->store.setClass(class_templates, class_id, tps, records);
     impl_->index.clear();
@@ -425,9 +429,7 @@ void Detector::writeClasses(const String& format) const
 
 void Detector::save(const String& filename, bool overwrite) const
 {
-    if (!overwrite && utils::fs::exists(filename))
-        CV_Error_(Error::StsError, ("forestmod::Detector::save: '%s' exists (pass overwrite = "
-                                    "true to replace it)", filename.c_str()));
+    detail::checkOutputFile(filename, overwrite, "forestmod::Detector::save");
     FileStorage fs(filename, FileStorage::WRITE | FileStorage::BASE64);
     if (!fs.isOpened())
         CV_Error_(Error::StsError, ("forestmod::Detector::save: cannot write '%s'",
@@ -467,9 +469,10 @@ void Detector::save(const String& filename, bool overwrite) const
 
 static void openModel(FileStorage& fs, const String& filename)
 {
+    const String text = detail::readModelText(filename); // bounded, see model_check.hpp
     try
     {
-        fs.open(filename, FileStorage::READ);
+        fs.open(text, FileStorage::READ | FileStorage::MEMORY);
     }
     catch (const cv::Exception& e)
     {

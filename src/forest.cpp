@@ -9,6 +9,7 @@
 #include "precomp.hpp"
 #include "params_io.hpp"
 #include "rejector.hpp"
+#include "model_check.hpp"
 
 #include <cstring>
 
@@ -879,11 +880,12 @@ private:
         if (fn.empty() || !fn.isMap())
             corrupt(t, "not a map");
         Mat nodes;
-        fn["nodes"] >> nodes;
+        // issue 18 (model_check): the data must hold what rows x cols announce
+        detail::readMat(fn["nodes"], nodes, INT_MAX, "forest tree nodes");
         std::vector<int> lut;
         Mat vals;
         fn["split_dims"] >> tr.split_dims;
-        fn["split_vals"] >> vals;
+        detail::readMat(fn["split_vals"], vals, INT_MAX, "forest tree split_vals");
         fn["rej_dims"] >> tr.rej_dims;
         fn["rej_lut"] >> lut;
         fn["leaf_ids"] >> tr.leaf_ids;

@@ -12,10 +12,16 @@
 #include <assimp/scene.h>
 #endif
 
+#include <cctype>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <sstream>
 
 namespace cv {
 namespace forestmod {
+
+static const double MAX_COORDINATE = Mesh::MAX_COORDINATE_MM;
 
 bool Mesh::empty() const
 {
@@ -140,8 +146,32 @@ void Mesh::validate() const
                           ("Mesh: face %d refers to vertex %d, outside [0, %d)", (int)f,
                            faces[f][k], nv));
     for (size_t i = 0; i < vertices.size(); ++i)
-        if (!std::isfinite(vertices[i].x) || !std::isfinite(vertices[i].y) || !std::isfinite(vertices[i].z))
+    {
+        const Point3f& v = vertices[i];
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
             CV_Error_(Error::StsBadArg, ("Mesh: vertex %d is not finite", (int)i));
+        if (std::abs(v.x) > MAX_COORDINATE || std::abs(v.y) > MAX_COORDINATE
+            || std::abs(v.z) > MAX_COORDINATE)
+            CV_Error_(Error::StsBadArg, ("Mesh: vertex %d at (%g, %g, %g) lies beyond +-%g mm "
+                                         "(a wrong scale?)", (int)i, v.x, v.y, v.z,
+                                         MAX_COORDINATE));
+    }
+    // degenerate: nothing to render (an empty mask in every view)
+    double area2 = 0;
+    for (size_t f = 0; f < faces.size() && area2 == 0; ++f)
+    {
+        const Point3d a(vertices[faces[f][0]]), b(vertices[faces[f][1]]), c(vertices[faces[f][2]]);
+        area2 = norm((b - a).cross(c - a));
+    }
+    if (!(area2 > 0))
+    {
+        const Point3f lo = bboxMin(), hi = bboxMax();
+        if (lo == hi)
+            CV_Error_(Error::StsBadArg, ("Mesh: all %d vertices coincide at (%g, %g, %g): zero "
+                                         "extent", (int)vertices.size(), lo.x, lo.y, lo.z));
+        CV_Error_(Error::StsBadArg, ("Mesh: all %d triangles have zero area (degenerate mesh)",
+                                     (int)faces.size()));
+    }
 }
 
 #ifdef HAVE_ASSIMP
@@ -149,6 +179,282 @@ void Mesh::validate() const
 static uchar toByte(float c)
 {
     return saturate_cast<uchar>(cvRound(255.0 * std::min(1.f, std::max(0.f, c))));
+}
+
+// ---- PLY: header and data length checked before assimp reads (and allocates) anything ---------
+
+namespace {
+
+struct PlyProperty
+{
+    int size;       // bytes of a value
+    bool integral;  // an integer type (list counts, indices)
+    bool list;
+    int count_size; // bytes of a list's count
+};
+
+struct PlyElement
+{
+    std::string name;
+    int64 count;
+    std::vector<PlyProperty> props;
+};
+
+} // namespace
+
+// bytes of a PLY scalar type, 0 when unknown; *integral: an integer type
+static int plyTypeSize(const std::string& t, bool* integral)
+{
+    *integral = true;
+    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8")
+        return 1;
+    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16")
+        return 2;
+    if (t == "int" || t == "uint" || t == "int32" || t == "uint32")
+        return 4;
+    *integral = false;
+    if (t == "float" || t == "float32")
+        return 4;
+    if (t == "double" || t == "float64")
+        return 8;
+    return 0;
+}
+
+static uint64 plyReadCount(const uchar* p, int size, bool big_endian)
+{
+    uint64 v = 0;
+    for (int i = 0; i < size; ++i)
+        v |= (uint64)p[big_endian ? i : size - 1 - i] << (8 * (size - 1 - i));
+    return v;
+}
+
+// an ASCII PLY value: the whole token is a number (an integer for integer types)
+static bool plyNumber(const std::string& tok, bool integral, long long* value)
+{
+    if (tok.empty())
+        return false;
+    char* end = 0;
+    if (integral)
+    {
+        const long long v = std::strtoll(tok.c_str(), &end, 10);
+        if (value)
+            *value = v;
+    }
+    else
+        (void)std::strtod(tok.c_str(), &end);
+    return *end == '\0';
+}
+
+// Throws unless a file that starts with "ply" has a header this check understands, counts
+// within Mesh's limits and data exactly as long as the header declares, every ASCII value a
+// number; assimp then reads a well-formed file. Files that do not start with "ply" are left to
+// assimp.
+static void checkPly(const String& path)
+{
+    std::ifstream f(path.c_str(), std::ios::binary);
+    char magic[4] = { 0, 0, 0, 0 };
+    f.read(magic, 4);
+    if (f.gcount() < 4 || std::memcmp(magic, "ply", 3) != 0 || !std::isspace((uchar)magic[3]))
+        return;
+    f.seekg(0);
+    std::string line;
+    if (!std::getline(f, line) || (line != "ply" && line != "ply\r"))
+        CV_Error_(Error::StsParseError, ("Mesh::load: '%s': the first line of a PLY file must be "
+                                         "'ply' (lines end with \\n or \\r\\n)", path.c_str()));
+    const char* fmt_names[] = { "ascii", "binary_little_endian", "binary_big_endian" };
+    int format = -1;
+    std::vector<PlyElement> elements;
+    bool end_header = false;
+    for (int n = 0; n < 10000 && std::getline(f, line); ++n)
+    {
+        if (!line.empty() && line[line.size() - 1] == '\r')
+            line.erase(line.size() - 1);
+        std::istringstream ls(line);
+        std::string key;
+        ls >> key;
+        if (key == "end_header")
+        {
+            end_header = true;
+            break;
+        }
+        if (key == "comment" || key == "obj_info")
+            continue;
+        bool ok = true;
+        if (key == "format")
+        {
+            std::string name, version;
+            ls >> name >> version;
+            for (int i = 0; i < 3; ++i)
+                if (name == fmt_names[i])
+                    format = i;
+            ok = format >= 0 && version == "1.0";
+        }
+        else if (key == "element")
+        {
+            PlyElement e;
+            std::string count;
+            ls >> e.name >> count;
+            long long c = -1;
+            ok = !e.name.empty() && plyNumber(count, true, &c) && c >= 0;
+            const int64 limit = e.name == "face" ? (int64)Mesh::MAX_FACES
+                                                 : (int64)Mesh::MAX_VERTICES;
+            if (ok && c > limit)
+                CV_Error_(Error::StsOutOfRange, ("Mesh::load: '%s': the PLY header declares %lld "
+                                                 "'%s' elements, more than the limit of %lld "
+                                                 "(Mesh::MAX_VERTICES / MAX_FACES)",
+                                                 path.c_str(), c, e.name.c_str(),
+                                                 (long long)limit));
+            e.count = c;
+            elements.push_back(e);
+        }
+        else if (key == "property" && !elements.empty())
+        {
+            PlyProperty pr;
+            std::string type, name;
+            ls >> type;
+            pr.list = type == "list";
+            pr.count_size = 0;
+            if (pr.list)
+            {
+                std::string count_type, item_type;
+                ls >> count_type >> item_type;
+                bool count_integral = false;
+                pr.count_size = plyTypeSize(count_type, &count_integral);
+                pr.size = plyTypeSize(item_type, &pr.integral);
+                ok = count_integral && pr.count_size > 0 && pr.size > 0;
+            }
+            else
+            {
+                pr.size = plyTypeSize(type, &pr.integral);
+                ok = pr.size > 0;
+            }
+            ls >> name;
+            ok = ok && !name.empty();
+            elements.back().props.push_back(pr);
+        }
+        else
+            ok = false;
+        if (!ok)
+            CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY header line %d not "
+                                             "understood: '%s'", path.c_str(), n + 2,
+                                             line.substr(0, 80).c_str()));
+    }
+    if (!end_header || format < 0)
+        CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY header without %s", path.c_str(),
+                                         format < 0 ? "a format line" : "end_header"));
+    const std::streamoff data_begin = f.tellg();
+    f.seekg(0, std::ios::end);
+    const std::streamoff data_size = f.tellg() - data_begin;
+    f.seekg(data_begin);
+
+    // Walk the data without keeping it. ASCII: whitespace-separated values, a list's count
+    // first; binary: fixed sizes, list counts read in the file's byte order.
+    const bool big_endian = format == 2;
+    const size_t chunk = 1 << 20;
+    std::vector<char> buf;
+    size_t pos = 0, len = 0;
+    bool eof = false;
+    // next byte, refilling the buffer; -1 at the end
+    auto next = [&]() -> int {
+        if (pos == len)
+        {
+            if (eof)
+                return -1;
+            buf.resize(chunk);
+            f.read(&buf[0], (std::streamsize)chunk);
+            len = (size_t)f.gcount();
+            pos = 0;
+            eof = len < chunk;
+            if (len == 0)
+                return -1;
+        }
+        return (uchar)buf[pos++];
+    };
+    std::string tok;
+    auto token = [&]() -> bool {
+        tok.clear();
+        int c = next();
+        while (c >= 0 && std::isspace(c))
+            c = next();
+        while (c >= 0 && !std::isspace(c))
+        {
+            if (tok.size() < 64)
+                tok += (char)c;
+            c = next();
+        }
+        return !tok.empty();
+    };
+    uchar bytes[8];
+    auto read = [&](int n) -> bool {
+        for (int i = 0; i < n; ++i)
+        {
+            const int c = next();
+            if (c < 0)
+                return false;
+            bytes[i] = (uchar)c;
+        }
+        return true;
+    };
+    for (size_t e = 0; e < elements.size(); ++e)
+    {
+        const PlyElement& el = elements[e];
+        for (int64 r = 0; r < el.count; ++r)
+            for (size_t k = 0; k < el.props.size(); ++k)
+            {
+                const PlyProperty& pr = el.props[k];
+                bool ok = true;
+                long long items = 1;
+                if (format == 0)
+                {
+                    ok = token();
+                    if (ok && !plyNumber(tok, pr.list || pr.integral, pr.list ? &items : 0))
+                        CV_Error_(Error::StsParseError,
+                                  ("Mesh::load: '%s': PLY '%s' %lld holds '%s' where a number "
+                                   "is expected", path.c_str(), el.name.c_str(), (long long)r,
+                                   tok.c_str()));
+                }
+                else if (pr.list)
+                {
+                    ok = read(pr.count_size);
+                    items = ok ? (long long)plyReadCount(bytes, pr.count_size, big_endian) : 0;
+                }
+                if (ok && pr.list && (items < 0 || items > Mesh::MAX_FACE_INDICES))
+                    CV_Error_(Error::StsOutOfRange,
+                              ("Mesh::load: '%s': PLY '%s' %lld has a list of %lld values (at "
+                               "most %d)", path.c_str(), el.name.c_str(), (long long)r, items,
+                               (int)Mesh::MAX_FACE_INDICES));
+                for (long long i = 0; ok && i < (pr.list ? items : (format == 0 ? 0 : 1)); ++i)
+                {
+                    if (format != 0)
+                        ok = read(pr.size);
+                    else
+                    {
+                        ok = token();
+                        if (ok && !plyNumber(tok, pr.integral, 0))
+                            CV_Error_(Error::StsParseError,
+                                      ("Mesh::load: '%s': PLY '%s' %lld holds '%s' where a "
+                                       "number is expected", path.c_str(), el.name.c_str(),
+                                       (long long)r, tok.c_str()));
+                    }
+                }
+                if (!ok)
+                    CV_Error_(Error::StsParseError,
+                              ("Mesh::load: '%s' is truncated: the PLY header declares %lld '%s' "
+                               "elements, the data ends in element %lld (%lld bytes of data)",
+                               path.c_str(), (long long)el.count, el.name.c_str(),
+                               (long long)r, (long long)data_size));
+            }
+    }
+    // what follows the declared elements: whitespace only
+    for (int c = next(); c >= 0; c = next())
+        if (!(format == 0 ? std::isspace(c) != 0 : (c == '\n' || c == '\r' || c == ' ')))
+            CV_Error_(Error::StsParseError,
+                      ("Mesh::load: '%s' holds more data than its PLY header declares (%s): "
+                       "wrong element counts?", path.c_str(),
+                       elements.empty() ? "no elements"
+                                        : cv::format("last element '%s' x %lld",
+                                                     elements.back().name.c_str(),
+                                                     (long long)elements.back().count).c_str()));
 }
 
 // Faces straight from the reader: every face has indices, all inside the mesh's vertices.
@@ -193,6 +499,7 @@ Mesh Mesh::load(const String& path, double scale)
         if (probe.tellg() <= 0)
             CV_Error_(Error::StsParseError, ("Mesh::load: '%s' is empty", path.c_str()));
     }
+    checkPly(path);
 
     Assimp::Importer importer;
     // drop points and lines: we render triangles only

@@ -81,8 +81,9 @@ static bool outOfDepthRange(const ScanContext& ctx, int c, int r)
     int known = 0, inside = 0;
     for (size_t k = 0; k < ctx.index->depth_probe.size() && !inside; ++k)
     {
-        const int x = (c * ctx.S + ctx.index->depth_probe[k].x) << ctx.L;
-        const int y = (r * ctx.S + ctx.index->depth_probe[k].y) << ctx.L;
+        // probes left of / above the frame are negative: a left shift would be undefined
+        const int x = (c * ctx.S + ctx.index->depth_probe[k].x) * (1 << ctx.L);
+        const int y = (r * ctx.S + ctx.index->depth_probe[k].y) * (1 << ctx.L);
         if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows)
             continue;
         const int z = depth.at<ushort>(y, x);

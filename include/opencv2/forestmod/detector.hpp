@@ -251,9 +251,11 @@ public:
                     Rect* bounding_box = NULL);
     /** Renders a mesh from every pose of a sampler and adds each view as a template with its
     pose label (sources per modality: the colour image for ColorGradient and ColorHue, the depth
-    for DepthNormal). Views that yield no template (too few features) are skipped. progress
-    (optional) is called with (done, total); returning false stops. Returns the number of
-    templates added. */
+    for DepthNormal). Views that yield no template (too few features) are skipped. A view
+    without an object pixel or covered by the object (a degenerate mesh, a wrong scale, radii
+    that do not fit the mesh), or no template from any view, raises a cv::Exception naming the
+    class and the view. progress (optional) is called with (done, total); returning false
+    stops. Returns the number of templates added. */
     int addTemplates(const Mesh& mesh, const String& class_id, const ViewSampler& sampler,
                      const Matx33d& K, Size size,
                      const std::function<bool(int, int)>& progress = std::function<bool(int, int)>());

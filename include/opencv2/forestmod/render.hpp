@@ -29,6 +29,15 @@ public:
     std::vector<Vec3b> colors;     //!< vertex colours, BGR (grey 128 when the file has none)
     std::vector<Vec3i> faces;      //!< triangles: indices into `vertices`
 
+    /** Limits of load(): a file declaring more is refused before anything is allocated. */
+    enum Limits
+    {
+        MAX_VERTICES = 1 << 24,     //!< vertices (and any element count but faces) of a file
+        MAX_FACES = 1 << 25,        //!< faces of a file
+        MAX_FACE_INDICES = 256,     //!< vertex indices of one PLY face
+        MAX_COORDINATE_MM = 1000000 //!< |x|, |y|, |z| of a vertex (mm, after load's scale)
+    };
+
     /** @brief Loads a mesh with assimp (PLY ascii/binary, OBJ, STL and every other format
     assimp reads).
 
@@ -38,10 +47,15 @@ public:
     the file when it has them, otherwise computed (computeNormals()). Coordinates are kept as
     they are in the file (no centring): poses of datasets like BOP refer to them.
 
+    A PLY file is first checked against its header, without allocating: element counts
+    within MAX_VERTICES / MAX_FACES, faces of at most MAX_FACE_INDICES indices, and the data
+    exactly as long as the header declares (a truncated file, or more data than declared, is
+    refused). The mesh is then validated (validate()).
+
     @param path  the file.
     @param scale file units -> mm (1 for files in mm, 1000 for files in metres).
-    @throws cv::Exception when the file is missing, unreadable, corrupt or has no triangles,
-    with the path and what assimp said.
+    @throws cv::Exception when the file is missing, unreadable, corrupt, beyond the limits or
+    degenerate (see validate()), with the path and the problem (or what assimp said).
     */
     static Mesh load(const String& path, double scale = 1.0);
 
@@ -51,7 +65,8 @@ public:
 
     /** @brief Throws a cv::Exception naming the problem when the mesh is inconsistent: no
     vertices or faces, a face index out of range, normals/colours of another length than the
-    vertices, non-finite coordinates. */
+    vertices, non-finite coordinates or beyond +-MAX_COORDINATE_MM, a degenerate mesh (all
+    vertices equal, every triangle of zero area). */
     void validate() const;
 
     Point3f bboxMin() const; //!< axis-aligned bounding box, minimum corner (mm)

@@ -1,0 +1,570 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Hostile inputs: mutated model files, bad PLY files, out-of-range parameters, degenerate
+// meshes, dangling symbolic links as output paths, and the inputs the fuzz targets found
+// (fuzz/, scripts/fuzz.sh). Each ends in a cv::Exception whose message names the problem.
+
+#include "test_precomp.hpp"
+#include "../samples/output_path.hpp"
+
+#include <cstdio>
+#include <regex>
+#ifndef _WIN32
+#include <unistd.h>
+#endif
+
+namespace opencv_test { namespace {
+
+static std::string slurpFile(const std::string& path)
+{
+    std::ifstream f(path.c_str(), std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+static void writeFile(const std::string& path, const std::string& text)
+{
+    std::ofstream f(path.c_str(), std::ios::binary);
+    f << text;
+}
+
+// A small shape drawn in view i (rotated, stretched), with its mask.
+static void shapeView(int i, Mat& color, Mat& mask)
+{
+    color = Mat(160, 160, CV_8UC3, Scalar(0, 0, 0));
+    mask = Mat::zeros(160, 160, CV_8UC1);
+    const RotatedRect r(Point2f(80, 80), Size2f(70.f - 6 * i, 44.f + 5 * i), 15.f * i);
+    Point2f p[4];
+    r.points(p);
+    std::vector<Point> poly(p, p + 4);
+    fillConvexPoly(color, poly, Scalar(30, 60, 200));
+    fillConvexPoly(mask, poly, Scalar(255));
+    circle(color, Point(74, 86), 10, Scalar(200, 140, 20), FILLED);
+}
+
+static Mat shapeScene()
+{
+    Mat color, mask;
+    shapeView(1, color, mask);
+    Mat scene(240, 320, CV_8UC3, Scalar(60, 60, 60));
+    color.copyTo(scene(Rect(70, 40, 160, 160)), mask);
+    return scene;
+}
+
+// The text of a small trained LINE model (3 templates with poses), saved as plain YAML.
+static std::string smallModelText()
+{
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    cv::forestmod::DetectorParams p = det->getParams();
+    p.forest.num_trees = 1;
+    det->setParams(p);
+    for (int i = 0; i < 3; ++i)
+    {
+        Mat color, mask;
+        shapeView(i, color, mask);
+        CV_Assert(det->addTemplate(std::vector<Mat>(2, color), "shape", mask, Matx33d::eye(),
+                                   Vec3d(0, 0, 700), Matx33d(500, 0, 80, 0, 500, 80, 0, 0, 1))
+                  >= 0);
+    }
+    det->train();
+    const std::string file = cv::tempfile(".yml");
+    det->save(file);
+    const std::string text = slurpFile(file);
+    std::remove(file.c_str());
+    return text;
+}
+
+// replaces the first match of `re` (or all) in text; the mutation must change the text
+static std::string mutate(const std::string& text, const std::string& re, const std::string& by,
+                          bool all = false)
+{
+    const std::string out = std::regex_replace(
+        text, std::regex(re), by,
+        all ? std::regex_constants::format_default : std::regex_constants::format_first_only);
+    CV_Assert(out != text && "the mutation did not apply");
+    return out;
+}
+
+// loads the text as a model file; returns the exception's message ("" when it loaded)
+static std::string loadError(const std::string& text, int* num_matches = 0)
+{
+    const std::string file = cv::tempfile(".yml");
+    writeFile(file, text);
+    std::string err;
+    try
+    {
+        cv::forestmod::Detector det;
+        det.load(file);
+        if (num_matches)
+        {
+            std::vector<linemod::Match> m;
+            det.match(std::vector<Mat>(2, shapeScene()), 80.f, m);
+            *num_matches = (int)m.size();
+        }
+    }
+    catch (const cv::Exception& e)
+    {
+        err = e.err;
+    }
+    std::remove(file.c_str());
+    return err;
+}
+
+TEST(Forestmod_HostileInputs, mutated_model_files_are_refused_with_the_field_named)
+{
+    const std::string text = smallModelText();
+    int matches = 0;
+    ASSERT_EQ("", loadError(text, &matches)); // the unmodified file loads and finds the shape
+    EXPECT_GT(matches, 0);
+
+    struct Case
+    {
+        const char* what;
+        const char* re;
+        const char* by;
+        bool all;
+        const char* needle;
+    };
+    const char* feature = "(features:\\s*- \\[ \\d+, \\d+, )\\d+ \\]";
+    const Case cases[] = {
+        // feature labels (the SIGSEGV in similarityAll of the issue) and positions
+        { "label 8", feature, "$018 ]", false, "label 8, expected 0..7" },
+        { "label -1", feature, "$01-1 ]", false, "label -1, expected 0..7" },
+        { "label 100000", feature, "$01100000 ]", false, "label 100000, expected 0..7" },
+        { "label nan", feature, "$01.nan ]", false, "not an [x, y, label] triple of integers" },
+        { "label abc", feature, "$01abc ]", false, "not an [x, y, label] triple of integers" },
+        { "feature x outside", "(features:\\s*- \\[ )\\d+", "$01100000", false,
+          "lies outside the template" },
+        { "features: [] everywhere", "features:(\\s*- \\[[^\\]]*\\])+", "features: []", true,
+          "no feature at pyramid level" },
+        // sizes
+        { "width 0", "width: \\d+", "width: 0", false, "template size 0 x" },
+        { "height -70", "height: \\d+", "height: -70", false, "template size" },
+        { "width huge", "width: \\d+", "width: 100000", false, "template size 100000 x" },
+        { "level width disagrees", "", "", false, "the level-0 size" }, // the 3rd width
+        // template poses
+        { "pose box empty", "box: \\[[^\\]]*\\]", "box: [ 0, 0, 0, 0 ]", false,
+          "pose box 0 x 0" },
+        { "pose box huge", "box: \\[ (\\d+), (\\d+), \\d+, \\d+ \\]",
+          "box: [ $1, $2, 1000000, 1000000 ]", false, "pose box 1000000 x 1000000" },
+        // parameters, through the check of setParams
+        { "nms_iou -3", "nms_iou: [^\\n]*", "nms_iou: -3.", false, "nms_iou" },
+        { "location_step 100000", "location_step: \\d+", "location_step: 100000", false,
+          "location_step" },
+        { "alpha nan", "alpha: [^\\n]*", "alpha: .nan", false, "alpha" },
+        { "num_trees 10^6", "num_trees: \\d+", "num_trees: 1000000", false, "num_trees" },
+        { "T 0", "T: !!binary \\|\\s*\\S+", "T: [ 5, 0 ]", false,
+          "T of pyramid level 1 is 0" },
+        { "pyramid_levels 9, 9 values of T", "pyramid_levels: 2\\s*T: !!binary \\|\\s*\\S+",
+          "pyramid_levels: 9\n   T: [ 5, 8, 8, 8, 8, 8, 8, 8, 8 ]", false,
+          "pyramid_levels is 9" },
+        { "weak_threshold nan", "weak_threshold: [^\\n]*", "weak_threshold: .nan", false,
+          "weak_threshold" },
+        // matrices whose header announces more than their data holds (fuzz finding: OpenCV
+        // allocated 36 GB for the header first)
+        { "patch mask rows 10^6", "(mask: !!opencv-matrix\\s*rows: )\\d+", "$011000000", false,
+          "at most" },
+        { "patch mask rows + 1", "", "", false, "template patch mask" },
+    };
+    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); ++i)
+    {
+        const Case& c = cases[i];
+        std::string bad;
+        if (std::string(c.what) == "level width disagrees")
+        {
+            // the first template of pyramid level 1 (the 3rd width) a size of its own
+            size_t at = 0;
+            for (int k = 0; k < 3; ++k)
+                at = text.find("width: ", at + (k ? 1 : 0));
+            ASSERT_NE(std::string::npos, at);
+            bad = text.substr(0, at) + "width: 999" + text.substr(text.find('\n', at));
+        }
+        else if (std::string(c.what) == "patch mask rows + 1")
+        {
+            // one more row than the data holds
+            std::smatch m;
+            ASSERT_TRUE(std::regex_search(text, m, std::regex("mask: !!opencv-matrix\\s*rows: "
+                                                              "(\\d+)")));
+            const int rows = std::stoi(m[1].str());
+            bad = text.substr(0, m.position(1)) + std::to_string(rows + 1)
+                  + text.substr(m.position(1) + m.length(1));
+        }
+        else
+            bad = mutate(text, c.re, c.by, c.all);
+        const std::string err = loadError(bad);
+        EXPECT_NE("", err) << c.what << ": loaded";
+        EXPECT_NE(std::string::npos, err.find(c.needle)) << c.what << ": " << err;
+    }
+}
+
+TEST(Forestmod_HostileInputs, detector_params_out_of_range_raise_naming_the_field)
+{
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    const cv::forestmod::DetectorParams ok = det->getParams();
+    struct Case
+    {
+        const char* field;
+        void (*set)(cv::forestmod::DetectorParams&);
+    };
+    const Case cases[] = {
+        { "nms_iou", [](cv::forestmod::DetectorParams& p) { p.nms_iou = -3.f; } },
+        { "nms_iou", [](cv::forestmod::DetectorParams& p) { p.nms_iou = 1.5f; } },
+        { "nms_iou", [](cv::forestmod::DetectorParams& p) { p.nms_iou = std::nanf(""); } },
+        { "location_step", [](cv::forestmod::DetectorParams& p) { p.location_step = 17; } },
+        { "location_step", [](cv::forestmod::DetectorParams& p) { p.location_step = 100000; } },
+        { "location_step", [](cv::forestmod::DetectorParams& p) { p.location_step = -1; } },
+        { "alpha", [](cv::forestmod::DetectorParams& p) { p.alpha = std::nanf(""); } },
+        { "group_size_ratio",
+          [](cv::forestmod::DetectorParams& p) {
+              p.group_size_ratio = std::numeric_limits<float>::infinity();
+          } },
+        { "auto_depth_leaf_samples",
+          [](cv::forestmod::DetectorParams& p) { p.auto_depth_leaf_samples = std::nanf(""); } },
+        { "depth_tolerance", [](cv::forestmod::DetectorParams& p) { p.depth_tolerance = 70000; } },
+        { "num_trees", [](cv::forestmod::DetectorParams& p) { p.forest.num_trees = 1001; } },
+        { "max_depth", [](cv::forestmod::DetectorParams& p) { p.forest.max_depth = 31; } },
+    };
+    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); ++i)
+    {
+        cv::forestmod::DetectorParams p = ok;
+        cases[i].set(p);
+        try
+        {
+            det->setParams(p);
+            ADD_FAILURE() << "case " << i << " (" << cases[i].field << ") accepted";
+        }
+        catch (const cv::Exception& e)
+        {
+            EXPECT_NE(std::string::npos, e.err.find(cases[i].field)) << i << ": " << e.err;
+        }
+    }
+    // the ends of the ranges are accepted
+    cv::forestmod::DetectorParams p = ok;
+    p.nms_iou = 0.f;
+    EXPECT_NO_THROW(det->setParams(p));
+    p.nms_iou = 1.f;
+    p.location_step = 16;
+    EXPECT_NO_THROW(det->setParams(p));
+    EXPECT_EQ(16, det->getParams().location_step);
+}
+
+// ---- meshes ---------------------------------------------------------------------------------
+
+static std::string plyAscii(const std::vector<Point3f>& v, const std::vector<Vec3i>& f,
+                            int declared_vertices = -1, int declared_faces = -1)
+{
+    std::ostringstream s;
+    s << "ply\nformat ascii 1.0\nelement vertex "
+      << (declared_vertices < 0 ? (int)v.size() : declared_vertices)
+      << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
+      << (declared_faces < 0 ? (int)f.size() : declared_faces)
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (size_t i = 0; i < v.size(); ++i)
+        s << v[i].x << " " << v[i].y << " " << v[i].z << "\n";
+    for (size_t i = 0; i < f.size(); ++i)
+        s << "3 " << f[i][0] << " " << f[i][1] << " " << f[i][2] << "\n";
+    return s.str();
+}
+
+static void tetra(std::vector<Point3f>& v, std::vector<Vec3i>& f, float scale)
+{
+    v.clear();
+    v.push_back(Point3f(0, 0, 0) * scale);
+    v.push_back(Point3f(40, 0, 0) * scale);
+    v.push_back(Point3f(0, 30, 0) * scale);
+    v.push_back(Point3f(0, 0, 20) * scale);
+    f.clear();
+    f.push_back(Vec3i(0, 2, 1));
+    f.push_back(Vec3i(0, 1, 3));
+    f.push_back(Vec3i(0, 3, 2));
+    f.push_back(Vec3i(1, 2, 3));
+}
+
+// loads the bytes as a .ply; returns the exception's message ("" when it loaded)
+static std::string meshError(const std::string& bytes, double scale = 1.0)
+{
+    const std::string file = cv::tempfile(".ply");
+    writeFile(file, bytes);
+    std::string err;
+    try
+    {
+        Mesh::load(file, scale);
+    }
+    catch (const cv::Exception& e)
+    {
+        err = e.err;
+    }
+    std::remove(file.c_str());
+    return err;
+}
+
+TEST(Forestmod_HostileInputs, bad_ply_files_are_refused_with_the_problem_named)
+{
+    std::vector<Point3f> v;
+    std::vector<Vec3i> f;
+    tetra(v, f, 1.f);
+    ASSERT_EQ("", meshError(plyAscii(v, f))); // the good file loads
+
+    // a header declaring 2e9 vertices fails at once, before anything is allocated
+    const int64 t0 = getTickCount();
+    std::string err = meshError(plyAscii(v, f, 2000000000));
+    EXPECT_NE(std::string::npos, err.find("more than the limit")) << err;
+    EXPECT_LT((getTickCount() - t0) / getTickFrequency(), 2.0);
+    err = meshError(plyAscii(v, f, -1, 2000000000));
+    EXPECT_NE(std::string::npos, err.find("more than the limit")) << err;
+
+    // counts that disagree with the data
+    err = meshError(plyAscii(v, f, -1, 2)); // fewer faces declared than present
+    EXPECT_NE(std::string::npos, err.find("more data than its PLY header declares")) << err;
+    err = meshError(plyAscii(v, f, -1, 6)); // more declared than present
+    EXPECT_NE(std::string::npos, err.find("is truncated")) << err;
+    err = meshError(plyAscii(v, f, 6)); // vertices: the faces are read as vertices
+    EXPECT_NE("", err);
+
+    // a value that is no number, a face of 1000 indices, a header line not understood
+    std::string bad = plyAscii(v, f);
+    bad.replace(bad.find("40 0 0"), 2, "4x");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("where a number is expected")) << err;
+    bad = plyAscii(v, f);
+    bad.replace(bad.rfind("3 1 2 3"), 1, "1000");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("list of 1000 values")) << err;
+    bad = plyAscii(v, f);
+    bad.replace(bad.find("end_header"), 10, "end_head`er");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("PLY header line")) << err;
+
+    // degenerate and absurd geometry
+    std::vector<Point3f> zero(4, Point3f(0, 0, 0));
+    err = meshError(plyAscii(zero, f)); // assimp joins them: triangles on one vertex
+    EXPECT_NE("", err);
+    std::vector<Point3f> same(4, Point3f(1, 2, 3));
+    Mesh m;
+    m.vertices = same;
+    m.faces = f;
+    try
+    {
+        m.validate();
+        ADD_FAILURE() << "a mesh of equal vertices validated";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(std::string::npos, e.err.find("zero extent")) << e.err;
+    }
+    std::vector<Point3f> line;
+    for (int i = 0; i < 4; ++i)
+        line.push_back(Point3f(10.f * i, 0, 0));
+    err = meshError(plyAscii(line, f));
+    EXPECT_NE(std::string::npos, err.find("zero area")) << err;
+    err = meshError(plyAscii(v, f), 1e20);
+    EXPECT_NE(std::string::npos, err.find("lies beyond")) << err;
+    std::vector<Point3f> huge;
+    tetra(huge, f, 1e18f);
+    err = meshError(plyAscii(huge, f));
+    EXPECT_NE(std::string::npos, err.find("lies beyond")) << err;
+}
+
+TEST(Forestmod_HostileInputs, binary_ply_counts_checked_against_the_data)
+{
+    std::vector<Point3f> v;
+    std::vector<Vec3i> f;
+    tetra(v, f, 1.f);
+    auto binary = [&](int declared_faces, int extra_bytes) {
+        std::ostringstream s;
+        s << "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+          << "property float y\nproperty float z\nelement face " << declared_faces
+          << "\nproperty list uchar int vertex_indices\nend_header\n";
+        std::string out = s.str();
+        out.append((const char*)&v[0], v.size() * sizeof(Point3f));
+        for (size_t i = 0; i < f.size(); ++i)
+        {
+            out += (char)3;
+            out.append((const char*)&f[i][0], 3 * sizeof(int));
+        }
+        out.append(extra_bytes, '\x7f');
+        return out;
+    };
+    ASSERT_EQ("", meshError(binary(4, 0)));
+    std::string err = meshError(binary(3, 0));
+    EXPECT_NE(std::string::npos, err.find("more data than its PLY header declares")) << err;
+    err = meshError(binary(5, 0));
+    EXPECT_NE(std::string::npos, err.find("is truncated")) << err;
+    err = meshError(binary(4, 7));
+    EXPECT_NE(std::string::npos, err.find("more data than its PLY header declares")) << err;
+}
+
+static Mesh box(float side)
+{
+    Mesh m;
+    const float h = side / 2;
+    for (int i = 0; i < 8; ++i)
+        m.vertices.push_back(Point3f(i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h));
+    const int q[6][4] = { { 0, 1, 3, 2 }, { 4, 6, 7, 5 }, { 0, 4, 5, 1 },
+                          { 2, 3, 7, 6 }, { 0, 2, 6, 4 }, { 1, 5, 7, 3 } };
+    for (int k = 0; k < 6; ++k)
+    {
+        m.faces.push_back(Vec3i(q[k][0], q[k][1], q[k][2]));
+        m.faces.push_back(Vec3i(q[k][0], q[k][2], q[k][3]));
+    }
+    return m;
+}
+
+TEST(Forestmod_HostileInputs, addTemplates_refuses_views_without_or_covered_by_the_object)
+{
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    ViewSampler::Params sp = ViewSampler::Params::coarse(); // radius 800 mm
+    const ViewSampler sampler(sp);
+    const Matx33d K(500, 0, 160, 0, 500, 120, 0, 0, 1);
+    const Size size(320, 240);
+    // a normal box: templates
+    EXPECT_GT(det->addTemplates(box(100.f), "box", sampler, K, size), 0);
+    // far too small to give features
+    try
+    {
+        det->addTemplates(box(0.01f), "speck", sampler, K, size);
+        ADD_FAILURE() << "a box of 0.01 mm gave templates";
+    }
+    catch (const cv::Exception& e)
+    {
+        // the renderer gives it one pixel: no features, no template of any view
+        EXPECT_NE(std::string::npos, e.err.find("none of the 6 rendered views gave a template"))
+            << e.err;
+    }
+    // the camera 100 mm in front of a 1400 mm box: it covers the frame
+    try
+    {
+        det->addTemplates(box(1400.f), "wall", sampler, K, size);
+        ADD_FAILURE() << "a box covering the frame gave templates";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_NE(std::string::npos, e.err.find("covers the whole")) << e.err;
+    }
+    std::vector<String> ids = det->classIds();
+    EXPECT_EQ(1u, ids.size()); // no template of the refused classes
+}
+
+// ---- output paths -----------------------------------------------------------------------------
+
+#ifndef _WIN32
+TEST(Forestmod_HostileInputs, dangling_symlink_output_is_not_written_through)
+{
+    const std::string target = cv::tempfile(".yml");
+    const std::string link = cv::tempfile(".yml");
+    ASSERT_EQ(0, symlink(target.c_str(), link.c_str()));
+    ASSERT_FALSE(utils::fs::exists(target));
+
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    Mat color, mask;
+    shapeView(0, color, mask);
+    ASSERT_GE(det->addTemplate(std::vector<Mat>(2, color), "shape", mask), 0);
+    for (int overwrite = 0; overwrite < 2; ++overwrite)
+    {
+        try
+        {
+            det->save(link, overwrite != 0);
+            ADD_FAILURE() << "saved through a dangling link (overwrite " << overwrite << ")";
+        }
+        catch (const cv::Exception& e)
+        {
+            EXPECT_NE(std::string::npos, e.err.find("dangling symbolic link")) << e.err;
+        }
+        EXPECT_FALSE(utils::fs::exists(target));
+    }
+
+    // the samples' check (every sample's output path, --force or not)
+    EXPECT_TRUE(forestmod_samples::isDanglingSymlink(link));
+    EXPECT_TRUE(forestmod_samples::refuseOutput("test", link, true));
+    EXPECT_TRUE(forestmod_samples::refuseOutput("test", link, false));
+    EXPECT_FALSE(forestmod_samples::refuseOutput("test", target, false)); // a new file
+    writeFile(target, "x");
+    EXPECT_FALSE(forestmod_samples::isDanglingSymlink(link));
+    EXPECT_TRUE(forestmod_samples::refuseOutput("test", target, false)); // exists, no --force
+    EXPECT_FALSE(forestmod_samples::refuseOutput("test", target, true));
+    std::remove(target.c_str());
+
+    // and a sample end to end: forestmod_hue refuses the link, with --force too
+    const std::string exe = testBinaryDir() + "/forestmod_hue";
+    if (utils::fs::exists(exe))
+    {
+        const std::string input = cv::tempfile(".png");
+        ASSERT_TRUE(imwrite(input, color));
+        const std::string link_png = cv::tempfile(".png"), target_png = cv::tempfile(".png");
+        ASSERT_EQ(0, symlink(target_png.c_str(), link_png.c_str()));
+        const std::string cmd = "'" + exe + "' '" + input + "' '" + link_png + "' --force "
+                                + "> /dev/null 2>&1";
+        EXPECT_NE(0, std::system(cmd.c_str()));
+        EXPECT_FALSE(utils::fs::exists(target_png));
+        std::remove(link_png.c_str());
+        std::remove(input.c_str());
+    }
+    std::remove(link.c_str());
+}
+#endif
+
+// ---- the fuzz targets' seeds and findings ---------------------------------------------------
+
+TEST(Forestmod_HostileInputs, fuzz_seeds_load_and_fuzz_findings_are_refused)
+{
+    const std::string root = cvtest::findDataFile("fuzz/README.md");
+    const std::string dir = root.substr(0, root.find_last_of('/'));
+    std::vector<String> seeds;
+    utils::fs::glob(dir + "/model", "*", seeds);
+    ASSERT_GE(seeds.size(), 3u);
+    for (size_t i = 0; i < seeds.size(); ++i)
+    {
+        cv::forestmod::Detector det;
+        EXPECT_NO_THROW(det.load(seeds[i])) << seeds[i];
+        EXPECT_GT(det.numTemplates(), 0) << seeds[i];
+    }
+    seeds.clear();
+    utils::fs::glob(dir + "/mesh", "*", seeds);
+    ASSERT_GE(seeds.size(), 3u);
+    for (size_t i = 0; i < seeds.size(); ++i)
+        EXPECT_EQ(4u, Mesh::load(seeds[i]).vertices.size()) << seeds[i];
+
+    // every input a fuzz target stopped on (crash, hang, allocation, undefined behaviour):
+    // a clean error now, or (match_*: a valid model) a clean match
+    std::vector<String> found;
+    utils::fs::glob(dir + "/regressions", "*", found);
+    ASSERT_GE(found.size(), 4u);
+    for (size_t i = 0; i < found.size(); ++i)
+    {
+        if (found[i].find("/match_") != std::string::npos)
+        {
+            cv::forestmod::Detector det;
+            ASSERT_NO_THROW(det.load(found[i])) << found[i];
+            std::vector<Mat> sources;
+            Mat depth(96, 128, CV_16UC1, Scalar(800));
+            rectangle(depth, Rect(30, 20, 50, 40), Scalar(760), FILLED);
+            for (size_t m = 0; m < det.getModalities().size(); ++m)
+                sources.push_back(det.getModalities()[m]->name() == "DepthNormal"
+                                      ? depth : Mat(shapeScene(), Rect(0, 0, 128, 96)));
+            std::vector<linemod::Match> matches;
+            EXPECT_NO_THROW(det.match(sources, 50.f, matches)) << found[i];
+            continue;
+        }
+        const bool model = found[i].find("/model_") != std::string::npos;
+        try
+        {
+            if (model)
+            {
+                cv::forestmod::Detector det;
+                det.load(found[i]);
+            }
+            else
+                Mesh::load(found[i]);
+            ADD_FAILURE() << found[i] << " loaded";
+        }
+        catch (const cv::Exception& e)
+        {
+            EXPECT_FALSE(e.err.empty()) << found[i];
+        }
+    }
+}
+
+}} // namespace
