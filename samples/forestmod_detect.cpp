@@ -13,12 +13,11 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "output_path.hpp"
+#include "sample_utils.hpp"
 #include <cstdio>
 #include <iostream>
 #include <map>
 #include <sstream>
-#include "sample_utils.hpp"
 
 using cv::forestmod::samples::splitList;
 using cv::forestmod::samples::lmoIntrinsics;
@@ -119,7 +118,7 @@ int main(int argc, char** argv)
         return 1;
     }
     if (!out.empty()
-        && forestmod_samples::refuseOutput("forestmod_detect", out, parser.has("force")))
+        && cv::forestmod::samples::refuseOutput("forestmod_detect", out, parser.has("force")))
         return 1;
     try
     {

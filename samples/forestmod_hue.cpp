@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "output_path.hpp"
+#include "sample_utils.hpp"
 #include <iostream>
 
 static const char* keys = "{help h usage ? |      | print this message }"
@@ -43,7 +43,7 @@ int main(int argc, char** argv)
         std::cerr << "forestmod_hue: an input image and an output path are required (see --help)\n";
         return 1;
     }
-    if (forestmod_samples::refuseOutput("forestmod_hue", output, parser.has("force")))
+    if (cv::forestmod::samples::refuseOutput("forestmod_hue", output, parser.has("force")))
         return 1;
     cv::Mat image = cv::imread(input, cv::IMREAD_COLOR);
     if (image.empty())

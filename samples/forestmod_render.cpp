@@ -17,7 +17,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "output_path.hpp"
+#include "sample_utils.hpp"
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -157,7 +157,7 @@ int main(int argc, char** argv)
         width = (int)fs["width"];
         height = (int)fs["height"];
     }
-    if (forestmod_samples::isDanglingSymlink(out))
+    if (cv::forestmod::samples::isDanglingSymlink(out))
     {
         std::cerr << "forestmod_render: '" << out << "' is a dangling symbolic link; it is not "
                   << "written through (remove it or choose another folder)\n";

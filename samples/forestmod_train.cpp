@@ -9,11 +9,10 @@
 #include <opencv2/core/utils/filesystem.hpp>
 #include <opencv2/forestmod.hpp>
 
-#include "output_path.hpp"
+#include "sample_utils.hpp"
 #include <cstdio>
 #include <iostream>
 #include <sstream>
-#include "sample_utils.hpp"
 
 using cv::forestmod::samples::splitList;
 using cv::forestmod::samples::lmoIntrinsics;
@@ -96,7 +95,7 @@ int main(int argc, char** argv)
         std::cerr << "forestmod_train: --modalities is line or linemod\n";
         return 1;
     }
-    if (forestmod_samples::refuseOutput("forestmod_train", out, parser.has("force")))
+    if (cv::forestmod::samples::refuseOutput("forestmod_train", out, parser.has("force")))
         return 1;
     for (size_t i = 0; i < meshes.size(); ++i)
         if (!cv::utils::fs::exists(meshes[i]))

@@ -2,17 +2,24 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory
 // of this distribution and at http://opencv.org/license.html
 
-// Small helpers shared by the samples, the tests and the perf tests (header only).
+// Small helpers shared by the samples, the tests and the perf tests (header only): lists,
+// LM-O intrinsics, rotations, and the samples' check of an output path (nothing on disk is
+// overwritten without --force, a dangling symbolic link is never written through).
 
 #ifndef OPENCV_FORESTMOD_SAMPLE_UTILS_HPP
 #define OPENCV_FORESTMOD_SAMPLE_UTILS_HPP
 
 #include "opencv2/core.hpp"
 #include "opencv2/calib3d.hpp"
+#include "opencv2/core/utils/filesystem.hpp"
 
+#include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
+#ifndef _WIN32
+#include <sys/stat.h>
+#endif
 
 namespace cv {
 namespace forestmod {
@@ -57,6 +64,38 @@ inline double rotationAngleDeg(const Matx33d& A, const Matx33d& B)
     const Matx33d D = A.t() * B;
     const double c = std::max(-1.0, std::min(1.0, (trace(D) - 1) / 2));
     return std::acos(c) * 180 / CV_PI;
+}
+
+/** True when `path` is a symbolic link to nothing: writing through it would create a file
+elsewhere. */
+inline bool isDanglingSymlink(const std::string& path)
+{
+#ifndef _WIN32
+    struct stat st;
+    return ::lstat(path.c_str(), &st) == 0 && S_ISLNK(st.st_mode)
+           && ::stat(path.c_str(), &st) != 0;
+#else
+    (void)path;
+    return false;
+#endif
+}
+
+/** true (after a message on stderr naming `tool`) when `path` must not be written: it exists
+and force is false, or it is a dangling symbolic link. */
+inline bool refuseOutput(const char* tool, const std::string& path, bool force)
+{
+    if (isDanglingSymlink(path))
+    {
+        std::cerr << tool << ": " << path << " is a dangling symbolic link; it is not written "
+                  << "through (remove it or choose another path)\n";
+        return true;
+    }
+    if (!force && cv::utils::fs::exists(path))
+    {
+        std::cerr << tool << ": " << path << " exists; pass --force to overwrite it\n";
+        return true;
+    }
+    return false;
 }
 
 } // namespace samples

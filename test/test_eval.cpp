@@ -8,6 +8,7 @@
 #include "test_precomp.hpp"
 
 #include <cstdlib>
+#include <limits>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -178,23 +179,15 @@ static void makeDataset(const std::string& root, int frames)
     std::ofstream((scene + "/scene_gt_info.json").c_str()) << info_json << "}\n";
 }
 
-/** OpenCV's JSON reader refuses null: turn the output's nulls into strings. */
-static cv::FileStorage readJsonWithNulls(const std::string& path)
+/** The sample writes its JSON with cv::FileStorage: it must read back with it as it is. */
+static cv::FileStorage readJson(const std::string& path)
 {
-    std::string text = readText(path);
-    std::string out;
-    for (size_t i = 0; i < text.size(); ++i)
-    {
-        if (text.compare(i, 4, "null") == 0)
-        {
-            out += "\"null\"";
-            i += 3;
-        }
-        else
-            out += text[i];
-    }
-    return cv::FileStorage(out, cv::FileStorage::READ | cv::FileStorage::MEMORY
-                                    | cv::FileStorage::FORMAT_JSON);
+    return cv::FileStorage(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+}
+
+static double number(const cv::FileNode& n)
+{
+    return n.isReal() || n.isInt() ? (double)n : std::numeric_limits<double>::quiet_NaN();
 }
 
 static const char* const RESULT_KEYS[] = { "t_total_ms", "t_tree_ms", "t_valid_ms", "recall_2d",
@@ -208,6 +201,14 @@ static double checkResult(const cv::FileNode& r, const std::string& what, bool f
         EXPECT_FALSE(r[RESULT_KEYS[k]].empty()) << what << ": no " << RESULT_KEYS[k];
     EXPECT_TRUE(r["t_total_ms"].isReal() || r["t_total_ms"].isInt()) << what;
     EXPECT_GT((double)r["t_total_ms"], 0.0) << what;
+    // both detectors have their quantization timed, and the spread of the per-frame times
+    EXPECT_GT(number(r["t_quant_ms"]), 0.0) << what;
+    EXPECT_LT(number(r["t_quant_ms"]), number(r["t_total_spread"]["max"]) * 3) << what;
+    const cv::FileNode spread = r["t_total_spread"];
+    EXPECT_TRUE(spread.isMap()) << what;
+    EXPECT_LE(number(spread["min"]), number(spread["median"])) << what;
+    EXPECT_LE(number(spread["median"]), number(spread["max"])) << what;
+    EXPECT_NEAR(number(spread["median"]), (double)r["t_total_ms"], 1e-6) << what;
     if (forest)
     {
         EXPECT_GE((double)r["t_tree_ms"], 0.0) << what;
@@ -218,7 +219,7 @@ static double checkResult(const cv::FileNode& r, const std::string& what, bool f
     }
     else
     {
-        EXPECT_TRUE(r["t_tree_ms"].isString()) << what << ": cv::linemod has no T_tree (null)";
+        EXPECT_TRUE(r["t_tree_ms"].isString()) << what << ": cv::linemod has no T_tree (n/a)";
         EXPECT_TRUE(r["rejected_fraction"].isString()) << what;
     }
     const char* acc[] = { "recall_2d", "proj2d_5px", "add_01d" };
@@ -273,7 +274,7 @@ static void checkPerFrame(const cv::FileNode& r, int frames, bool with_depth,
         }
         else
         {
-            EXPECT_TRUE(f["add_d"].isString()) << at << ": null without depth";
+            EXPECT_TRUE(f["add_d"].isString()) << at << ": n/a without depth";
         }
     }
     EXPECT_NEAR((double)r["recall_2d"], double(ok2d) / frames, 1e-5) << what;
@@ -291,14 +292,15 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
     ASSERT_NO_FATAL_FAILURE(makeDataset(root, 5));
     const std::string json = dir + "/out.json";
     const std::string cmd = "'" + eval + "' --dataset='" + root + "' --scene=1 --level=0 "
-        "--min_elevation=0 --radii=700 --inplane=0,0,15 --threshold=70 --cache='" + dir
-        + "/cache' --json='" + json + "' --heatmap='" + dir + "/heat' --heatmap_frames=2";
+        "--min_elevation=0 --radii=700 --inplane=0,0,15 --threshold=70 --sweep=none --cache='"
+        + dir + "/cache' --json='" + json + "' --heatmap='" + dir + "/heat' --heatmap_frames=2";
     std::string out, err;
     ASSERT_EQ(0, run(cmd, dir, out, err)) << out << err;
     EXPECT_NE(std::string::npos, out.find("## Table 1")) << out;
     EXPECT_NE(std::string::npos, out.find("1 OpenCV thread")) << out;
+    EXPECT_NE(std::string::npos, out.find("best of 3 match() calls")) << out;
 
-    cv::FileStorage fs = readJsonWithNulls(json);
+    cv::FileStorage fs = readJson(json);
     ASSERT_TRUE(fs.isOpened());
     EXPECT_EQ(5, (int)fs["frames"]);
     cv::FileNode objects = fs["objects"];
@@ -370,14 +372,15 @@ TEST(Forestmod_Eval, synthetic_scenes_give_add)
     const std::string json = dir + "/out.json";
     std::string out, err;
     ASSERT_EQ(0, run("'" + eval + "' --dataset='" + root + "' --scene=1 --objects=1 --synthetic=2 "
-                     "--no_multi --level=0 --min_elevation=0 --radii=700 --inplane=0,0,15 --cache='"
+                     "--no_multi --level=0 --min_elevation=0 --radii=700 --inplane=0,0,15 "
+                     "--sweep=none --repeat=1 --cache='"
                      + dir + "/cache' --json='" + json + "'", dir, out, err)) << out << err;
     EXPECT_NE(std::string::npos, out.find("ColorGradient + DepthNormal + ColorHue")) << out;
-    cv::FileStorage fs = readJsonWithNulls(json);
+    cv::FileStorage fs = readJson(json);
     ASSERT_TRUE(fs.isOpened());
     EXPECT_EQ(2, (int)fs["frames"]);
     ASSERT_EQ(1, (int)fs["objects"].size());
-    EXPECT_TRUE(fs["multi"].isString()) << "--no_multi: multi is null";
+    EXPECT_TRUE(fs["multi"].isString()) << "--no_multi: multi is n/a";
     const cv::FileNode o = fs["objects"][0];
     checkResult(o["forestmod"], "forestmod", true);
     checkResult(o["linemod"], "linemod", false);
@@ -387,6 +390,161 @@ TEST(Forestmod_Eval, synthetic_scenes_give_add)
     // forestmod's best hypotheses within 0.1 d in at least one of the two
     EXPECT_GT((double)o["linemod"]["add_01d"], 0.0);
     EXPECT_GT((double)o["forestmod_5"]["add_01d"], 0.0);
+}
+
+/** The "= N poses per object" of the sample's header. */
+static int printedPoses(const std::string& out)
+{
+    const size_t k = out.find(" poses per object");
+    if (k == std::string::npos)
+        return -1;
+    size_t b = out.rfind("= ", k);
+    return b == std::string::npos ? -1 : atoi(out.c_str() + b + 2);
+}
+
+TEST(Forestmod_Eval, regimes_give_the_sampling_they_print)
+{
+    const std::string eval = samplePath("forestmod_eval");
+    const std::string dir = tempDir("forestmod_eval_regimes");
+    std::string out, err;
+
+    // paper: LINEMOD's sampling over LM-O's pose range, >= 2000 templates per object
+    ASSERT_EQ(0, run("'" + eval + "' --dry_run", dir, out, err)) << out << err;
+    EXPECT_NE(std::string::npos, out.find("regime paper")) << out << ": paper is the default";
+    ViewSampler::Params paper;
+    paper.level = 2;
+    paper.min_elevation = -15;
+    paper.max_elevation = 90;
+    paper.radii.assign(1, 650.0);
+    paper.radii.push_back(900.0);
+    paper.radii.push_back(1150.0);
+    paper.inplane_min = -45;
+    paper.inplane_max = 45;
+    paper.inplane_step = 15;
+    const int n_paper = ViewSampler(paper).size();
+    EXPECT_GE(n_paper, 2000);
+    EXPECT_EQ(n_paper, printedPoses(out)) << out;
+    EXPECT_NE(std::string::npos, out.find("level 2, elevation -15..90 deg")) << out;
+    EXPECT_NE(std::string::npos, out.find("radii {650, 900, 1150} mm")) << out;
+    EXPECT_NE(std::string::npos, out.find("in-plane -45..45 step 15 deg (7 angles)")) << out;
+
+    // quick: 260 poses (level 1, 700 and 1100 mm, in-plane -60..60 step 30)
+    ASSERT_EQ(0, run("'" + eval + "' --dry_run --regime=quick", dir, out, err)) << out << err;
+    ViewSampler::Params quick = paper;
+    quick.level = 1;
+    quick.radii.assign(1, 700.0);
+    quick.radii.push_back(1100.0);
+    quick.inplane_min = -60;
+    quick.inplane_max = 60;
+    quick.inplane_step = 30;
+    EXPECT_EQ(260, ViewSampler(quick).size());
+    EXPECT_EQ(ViewSampler(quick).size(), printedPoses(out)) << out;
+
+    // an explicit flag overrides the regime, and says so
+    ASSERT_EQ(0, run("'" + eval + "' --dry_run --regime=paper --radii=700", dir, out, err))
+        << out << err;
+    EXPECT_EQ(n_paper / 3, printedPoses(out)) << out;
+    EXPECT_NE(std::string::npos, out.find("overridden: --radii")) << out;
+
+    // an unknown regime is refused
+    EXPECT_NE(0, run("'" + eval + "' --dry_run --regime=dense", dir, out, err));
+    EXPECT_NE(std::string::npos, err.find("--regime")) << err;
+}
+
+/** Checks the points of one sweep: increasing in `key` and in templates, every detector
+timed; returns the number of points. */
+static int checkSweep(const cv::FileNode& sweep, const char* key, const std::string& what)
+{
+    EXPECT_TRUE(sweep.isMap()) << what;
+    const cv::FileNode points = sweep["points"];
+    EXPECT_TRUE(points.isSeq()) << what;
+    int prev_x = 0, prev_templates = 0;
+    for (int i = 0; i < (int)points.size(); ++i)
+    {
+        const cv::FileNode p = points[i];
+        const std::string at = cv::format("%s, point %d", what.c_str(), i);
+        const int x = (int)p[key], templates = (int)p["templates"];
+        EXPECT_GT(x, prev_x) << at;
+        EXPECT_GT(templates, prev_templates) << at;
+        prev_x = x;
+        prev_templates = templates;
+        const char* dets[] = { "forestmod", "forestmod_5", "linemod" };
+        for (int d = 0; d < 3; ++d)
+        {
+            const cv::FileNode r = p[dets[d]];
+            EXPECT_GT(number(r["t_total_ms"]), 0.0) << at << " " << dets[d];
+            EXPECT_GT(number(r["t_quant_ms"]), 0.0) << at << " " << dets[d];
+            EXPECT_LE(number(r["t_total_spread"]["min"]), number(r["t_total_ms"])) << at;
+        }
+        const double rej = number(p["forestmod"]["rejected_fraction"]);
+        EXPECT_GE(rej, 0.0) << at;
+        EXPECT_LE(rej, 1.0) << at;
+        EXPECT_TRUE(p["linemod"]["rejected_fraction"].isString()) << at;
+        EXPECT_NEAR(number(p["speedup_1tree"]),
+                    number(p["linemod"]["t_total_ms"]) / number(p["forestmod"]["t_total_ms"]),
+                    1e-6) << at;
+    }
+    return (int)points.size();
+}
+
+TEST(Forestmod_Eval, sweeps_write_json_and_plots)
+{
+    const std::string eval = samplePath("forestmod_eval");
+    const std::string dir = tempDir("forestmod_eval_sweeps");
+    const std::string root = dir + "/data";
+    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 2));
+    const std::string plots = dir + "/plots", json = dir + "/out.json";
+    // 6 views x 5 in-plane angles = 30 poses: 40 templates need a denser sampler (level 1)
+    const std::string cmd = "'" + eval + "' --dataset='" + root + "' --scene=1 --tables=false "
+        "--level=0 --min_elevation=0 --radii=700 --inplane=-30,30,15 --threshold=70 "
+        "--sweep=all --sweep_templates=40,5,15 --sweep_classes=1,2,3 --sweep_per_class=6 "
+        "--repeat=1 --cache='" + dir + "/cache' --plots='" + plots + "' --json='" + json + "'";
+    std::string out, err;
+    ASSERT_EQ(0, run(cmd, dir, out, err)) << out << err;
+    EXPECT_NE(std::string::npos, out.find("## Scaling with templates")) << out;
+    EXPECT_NE(std::string::npos, out.find("## Scaling with objects")) << out;
+    EXPECT_NE(std::string::npos, out.find("recoloured")) << out
+        << ": the classes beyond the dataset's objects are copies, and the output says so";
+
+    cv::FileStorage fs = readJson(plots + "/scaling.json");
+    ASSERT_TRUE(fs.isOpened());
+    const cv::FileNode sweeps = fs["sweeps"];
+    ASSERT_TRUE(sweeps.isMap());
+    EXPECT_EQ(2, (int)sweeps["frames"]);
+    EXPECT_EQ(1, (int)sweeps["repetitions"]);
+    EXPECT_EQ(3, checkSweep(sweeps["templates"], "poses", "templates sweep"));
+    EXPECT_GT((int)sweeps["templates"]["points"][2]["templates"], 30)
+        << "40 poses asked of a 30-pose sampler: the sweep samples denser";
+    EXPECT_EQ(3, checkSweep(sweeps["objects"], "classes", "objects sweep"));
+    const cv::FileNode last = sweeps["objects"]["points"][2];
+    ASSERT_EQ(3, (int)last["class_ids"].size());
+    EXPECT_NE(std::string::npos, ((std::string)last["class_ids"][2]).find("_v1"));
+    fs.release();
+
+    // the same sweeps in the --json file
+    cv::FileStorage fj = readJson(json);
+    ASSERT_TRUE(fj.isOpened());
+    EXPECT_EQ(3, (int)fj["sweeps"]["objects"]["points"].size());
+    EXPECT_EQ("paper", (std::string)fj["regime"]);
+    fj.release();
+
+    const char* pngs[] = { "scaling_templates.png", "scaling_objects.png" };
+    for (int k = 0; k < 2; ++k)
+    {
+        const cv::Mat img = cv::imread(plots + "/" + pngs[k], cv::IMREAD_COLOR);
+        ASSERT_FALSE(img.empty()) << pngs[k];
+        EXPECT_GE(img.cols, 400) << pngs[k];
+        // curves in colour on white: not a blank image
+        cv::Mat hsv;
+        cv::cvtColor(img, hsv, cv::COLOR_BGR2HSV);
+        cv::Mat sat;
+        cv::extractChannel(hsv, sat, 1);
+        EXPECT_GT(cv::countNonZero(sat > 100), 200) << pngs[k];
+    }
+
+    // outputs are not overwritten without --force
+    EXPECT_NE(0, run(cmd, dir, out, err));
+    EXPECT_NE(std::string::npos, err.find("--force")) << err;
 }
 
 struct SampleCall

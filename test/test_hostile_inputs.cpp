@@ -7,7 +7,7 @@
 // (fuzz/, scripts/fuzz.sh). Each ends in a cv::Exception whose message names the problem.
 
 #include "test_precomp.hpp"
-#include "../samples/output_path.hpp"
+#include "../samples/sample_utils.hpp"
 
 #include <cstdio>
 #include <regex>
@@ -477,14 +477,14 @@ TEST(Forestmod_HostileInputs, dangling_symlink_output_is_not_written_through)
     }
 
     // the samples' check (every sample's output path, --force or not)
-    EXPECT_TRUE(forestmod_samples::isDanglingSymlink(link));
-    EXPECT_TRUE(forestmod_samples::refuseOutput("test", link, true));
-    EXPECT_TRUE(forestmod_samples::refuseOutput("test", link, false));
-    EXPECT_FALSE(forestmod_samples::refuseOutput("test", target, false)); // a new file
+    EXPECT_TRUE(cv::forestmod::samples::isDanglingSymlink(link));
+    EXPECT_TRUE(cv::forestmod::samples::refuseOutput("test", link, true));
+    EXPECT_TRUE(cv::forestmod::samples::refuseOutput("test", link, false));
+    EXPECT_FALSE(cv::forestmod::samples::refuseOutput("test", target, false)); // a new file
     writeFile(target, "x");
-    EXPECT_FALSE(forestmod_samples::isDanglingSymlink(link));
-    EXPECT_TRUE(forestmod_samples::refuseOutput("test", target, false)); // exists, no --force
-    EXPECT_FALSE(forestmod_samples::refuseOutput("test", target, true));
+    EXPECT_FALSE(cv::forestmod::samples::isDanglingSymlink(link));
+    EXPECT_TRUE(cv::forestmod::samples::refuseOutput("test", target, false)); // exists, no --force
+    EXPECT_FALSE(cv::forestmod::samples::refuseOutput("test", target, true));
     std::remove(target.c_str());
 
     // and a sample end to end: forestmod_hue refuses the link, with --force too

@@ -1,0 +1,287 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// forestmod_eval: the types and functions its files share (options, data, templates, runners,
+// report). Everything lives in namespace fmeval; no mutable globals: the options travel in
+// EvalOptions.
+
+#ifndef FORESTMOD_EVAL_COMMON_HPP
+#define FORESTMOD_EVAL_COMMON_HPP
+
+#include <opencv2/core.hpp>
+#include <opencv2/forestmod.hpp>
+#include <opencv2/rgbd/linemod.hpp>
+
+#include "../sample_utils.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fmeval {
+
+namespace fm = cv::forestmod;
+
+// ---------------------------------------------------------------------------------------------
+// options (eval_options.cpp)
+
+/** Everything the command line sets. Filled once by parseOptions(), then read only. */
+struct EvalOptions
+{
+    EvalOptions();
+
+    std::string root, split;
+    int scene;
+    std::vector<int> object_ids;   //!< empty: every model with a mesh
+    int max_frames;                //!< 0: all
+    int synthetic;
+    bool rgb_only;
+    std::vector<std::string> modalities_arg;
+    float threshold;
+    bool rgb_refine, rgb_grid;
+
+    std::string regime;            //!< "paper" or "quick"
+    fm::ViewSampler::Params sampler;
+    std::vector<std::string> sampler_overrides; //!< flags that replaced the regime's values
+
+    bool tables, multi;
+    std::string cache_dir, json_path, heat_dir, plots_dir;
+    int heat_frames;
+    int threads, train_threads, seed;
+    int repeat;                    //!< match() calls per frame, the best one is kept
+    bool force, dry_run;
+
+    // scaling sweeps
+    bool sweep_templates, sweep_objects;
+    std::vector<int> sweep_counts;    //!< templates of one object
+    std::vector<int> sweep_classes;   //!< classes in one model
+    int sweep_object;                 //!< obj_id of the templates sweep (0: the first object)
+    int sweep_per_class;              //!< templates per class in the objects sweep (0: all)
+    int sweep_frames;                 //!< frames of the sweeps (0: the run's frames)
+
+    // experiments (-1: the library's default)
+    int depth_samples, depth_tolerance, max_survivors, any_tree;
+    float leaf_samples;
+    bool depth_validation;
+};
+
+/** Parses argv; returns 0 when the program should go on, -1 after printing the help (exit
+code 0), otherwise the exit code after printing an error. */
+int parseOptions(int argc, char** argv, EvalOptions& opt);
+
+/** The sampler of a regime ("paper", "quick"); false for an unknown name. */
+bool regimeSampler(const std::string& regime, fm::ViewSampler::Params& p);
+
+/** One line: "level L, elevation a..b deg, V views x radii {..} mm x in-plane a..b step s deg =
+N poses per object". */
+std::string samplingText(const fm::ViewSampler::Params& p);
+
+/** DetectorParams with the experiment flags applied. */
+fm::DetectorParams experimentParams(const EvalOptions& opt,
+                                    fm::DetectorParams p = fm::DetectorParams());
+
+// ---------------------------------------------------------------------------------------------
+// small helpers (eval_options.cpp)
+
+using cv::forestmod::samples::splitList;
+bool parseNumbers(const std::string& s, std::vector<double>& out);
+std::string lmoName(int obj_id);
+double median(std::vector<double> v);
+double quantile(std::vector<double> v, double q);
+uint64_t fnv1a(const void* data, size_t n, uint64_t h = 14695981039346656037ULL);
+std::string executableDir(const char* argv0);
+
+// ---------------------------------------------------------------------------------------------
+// data
+
+/** A test image with its ground truth (dataset frame or rendered scene). */
+struct EvalFrame
+{
+    int scene_id, im_id;
+    cv::Mat rgb, depth;
+    cv::Matx33d K;
+    std::vector<fm::GroundTruth> gt;
+    int owner; //!< --synthetic: index of the object the scene was made for; -1: every object
+};
+
+struct ObjectInfo
+{
+    ObjectInfo() : obj_id(0), diameter(0), symmetric(false), templates(0) {}
+    int obj_id;
+    std::string name, class_id, mesh_path, cache_file;
+    std::string variant; //!< empty: the mesh as loaded; otherwise how it was recoloured/rescaled
+    fm::Mesh mesh;
+    std::vector<cv::Point3f> pts; //!< model points for the metrics (subsampled vertices)
+    double diameter;
+    bool symmetric;
+    std::vector<cv::Matx44d> symmetries;
+    int templates;
+};
+
+/** One frame's outcome for one object (the JSON's "per_frame" list). */
+struct FrameRecord
+{
+    int scene_id, im_id;
+    double t_ms;
+    int template_id; //!< the hypothesis whose pose is scored; -1: none
+    float similarity;
+    cv::Point pos;
+    double iou, proj, add; //!< NaN where not measured
+    std::vector<cv::linemod::Match> top; //!< the class's best matches (up to 5), as matched
+};
+
+/** Accumulated results of one detector on one object (or on the multi-object model). Times are
+per frame, each the best of EvalOptions::repeat calls. */
+struct Result
+{
+    Result();
+    bool has_forest;
+    std::vector<double> total, tree, valid, quant;
+    int64 locations, rejected;
+    int n2d, ok2d, okproj, nadd, okadd;
+    bool with_depth;
+    std::vector<FrameRecord> per_frame;
+};
+
+double ratio(int a, int b);
+double tTotal(const Result& r);
+double tTree(const Result& r);
+double tValid(const Result& r);
+double tQuant(const Result& r);
+double rejectedFraction(const Result& r);
+double addRate(const Result& r);
+/** Results of several objects scored in one run (the multi-object model) pooled into one. */
+Result pooled(const std::vector<Result>& rs);
+
+/** Progress bar on stderr. */
+struct Progress
+{
+    Progress() : done(0), total(1) {}
+    int64 done, total;
+    void show(const std::string& what) const;
+    void step(const std::string& what);
+    void finish() const;
+};
+
+// ---------------------------------------------------------------------------------------------
+// templates (eval_templates.cpp)
+
+struct TemplateSetup
+{
+    std::vector<std::string> modalities; //!< names, in order
+    fm::ViewSampler sampler;
+    int subset;      //!< > 0: only this many of the sampler's poses, spread evenly (poseSubset)
+    cv::Matx33d K;   //!< intrinsics of the dataset
+    cv::Size size;   //!< image size of the dataset
+};
+
+cv::Ptr<fm::Detector> makeDetector(const EvalOptions& opt,
+                                   const std::vector<std::string>& modalities);
+
+/** Indices of n of total poses, spread evenly over the sampler's order (radius, direction,
+in-plane), deterministic; all of them when n <= 0 or n >= total. */
+std::vector<int> poseSubset(int total, int n);
+
+/** The object's templates: from the cache, or rendered and cached. Returns an empty pointer
+when no view gave a template. render_s: rendering time (0 when cached). */
+cv::Ptr<fm::Detector> objectTemplates(const EvalOptions& opt, ObjectInfo& obj,
+                                      const TemplateSetup& setup, Progress& progress,
+                                      double& render_s);
+
+/** cv::linemod::Detector with exactly the templates (and modality objects) of a forestmod one. */
+cv::Ptr<cv::linemod::Detector> linemodCopy(const fm::Detector& det);
+
+/** Loads the cached untrained templates of several objects into one detector. */
+cv::Ptr<fm::Detector> multiObjectDetector(const EvalOptions& opt,
+                                          const std::vector<std::string>& modalities,
+                                          const std::vector<ObjectInfo*>& objects);
+
+/** A copy of obj for the objects sweep: k-th variant, colours turned on the hue circle and
+the mesh rescaled (k = 0: the object itself). */
+ObjectInfo objectVariant(const ObjectInfo& obj, int k);
+
+// ---------------------------------------------------------------------------------------------
+// running the detectors (eval_run.cpp)
+
+struct RunContext
+{
+    const std::vector<EvalFrame>* frames;
+    float threshold;
+    bool use_depth;
+    bool rgb_refine;
+    bool rgb_grid;
+    int repeat;
+    Progress* progress;
+};
+
+/** Runs a forestmod detector (trained as it is) on the frames and scores every object of objs
+(res: one entry per object; with no object, res[0] gets the times only). object_index >= 0:
+only the frames of that object (--synthetic). heat: rejection maps of the first frames. */
+void runForestmod(const fm::Detector& det, const std::vector<ObjectInfo*>& objs,
+                  int object_index, const RunContext& ctx, const std::string& label,
+                  std::vector<Result>& res, std::vector<std::pair<int, cv::Mat> >* heat = 0,
+                  int heat_frames = 0);
+
+/** The same for cv::linemod; quant: the modalities' process + pyrDown + quantize of every
+level, timed separately on the same frame. posedet: forestmod detector with the same templates
+(pose labels, meshes) for the scoring; may be null when objs is empty. */
+void runLinemod(const cv::linemod::Detector& lm, const fm::Detector* posedet,
+                const std::vector<ObjectInfo*>& objs, int object_index, const RunContext& ctx,
+                const std::string& label, std::vector<Result>& res);
+
+/** Trains the forest with train_threads, then goes back to the matching threads; seconds. */
+double trainDetector(fm::Detector& det, const EvalOptions& opt);
+
+// ---------------------------------------------------------------------------------------------
+// report (eval_report.cpp)
+
+std::string num(double v, const char* fmt = "%.2f");
+std::string pct(double v);
+std::string mdRow(const std::string& name, const std::string& det, int templates,
+                  const Result& r);
+std::string meanRow(const std::string& det, const std::vector<Result>& rs);
+
+/** Writes a number, or the string "n/a" when it is NaN (cv::FileStorage writes no JSON null). */
+void writeNumber(cv::FileStorage& fs, const std::string& key, double v);
+/** {t_total_ms, t_tree_ms, ..., per_frame} of one result. */
+void writeResult(cv::FileStorage& fs, const std::string& key, const Result& r, bool per_frame);
+
+cv::Mat heatmapImage(const cv::Mat& frame, const cv::Mat& map, int max_depth);
+std::string heatFile(const std::string& dir, const char* model, const EvalFrame& f);
+
+/** One curve of a plot. */
+struct Series
+{
+    std::string label;
+    cv::Scalar color;
+    std::vector<double> x, y;
+};
+
+/** A log-log plot of the series (time in ms against x) and, when rejection is not empty, a
+lower panel with those series as shares (0..1, drawn in percent). Axes labelled, legend.
+x_ticks: where to label the x axis (empty: 1, 2, 5 x 10^k). */
+cv::Mat plotCurves(const std::string& title, const std::string& xlabel,
+                   const std::vector<Series>& times, const std::vector<Series>& rejection,
+                   const std::vector<double>& x_ticks = std::vector<double>());
+
+// ---------------------------------------------------------------------------------------------
+// the two parts of a run
+
+/** The paper's Tables 1 and 2 (eval_tables.cpp); writes into fs when it is open. */
+int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
+              const std::vector<EvalFrame>& frames, const TemplateSetup& setup, bool use_depth,
+              cv::FileStorage& fs);
+
+/** The scaling sweeps (eval_sweep.cpp): JSON into fs (when open) and into
+<plots_dir>/scaling.json, PNG plots into plots_dir. */
+int runSweeps(const EvalOptions& opt, const std::vector<ObjectInfo>& objects,
+              const std::vector<EvalFrame>& frames, const TemplateSetup& setup, bool use_depth,
+              cv::FileStorage& fs);
+
+/** Output files of the sweeps (for the overwrite check). */
+std::vector<std::string> sweepOutputs(const EvalOptions& opt);
+
+} // namespace fmeval
+
+#endif

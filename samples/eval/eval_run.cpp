@@ -1,0 +1,279 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// forestmod_eval: running the detectors on the frames (best of N match() calls per frame) and
+// scoring the best hypothesis of every object.
+
+#include "eval_common.hpp"
+
+#include <algorithm>
+#include <limits>
+
+namespace fmeval {
+
+static cv::Rect2d projectedBox(const std::vector<cv::Point3f>& pts, const cv::Matx33d& K,
+                               const cv::Matx33d& R, const cv::Vec3d& t)
+{
+    double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
+    for (size_t i = 0; i < pts.size(); ++i)
+    {
+        const cv::Vec3d p = R * cv::Vec3d(pts[i].x, pts[i].y, pts[i].z) + t;
+        if (p[2] <= 0)
+            continue;
+        const double u = K(0, 0) * p[0] / p[2] + K(0, 2), v = K(1, 1) * p[1] / p[2] + K(1, 2);
+        x0 = std::min(x0, u);
+        y0 = std::min(y0, v);
+        x1 = std::max(x1, u);
+        y1 = std::max(y1, v);
+    }
+    return x1 < x0 ? cv::Rect2d() : cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
+}
+
+/** Scores the best hypothesis of an object in a frame. matches: the detector's output (sorted,
+best first); posedet: a forestmod::Detector with the same templates (pose labels, meshes). */
+static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm::Detector& posedet,
+                       const EvalFrame& f, const ObjectInfo& obj, const RunContext& ctx,
+                       Result& res)
+{
+    const fm::GroundTruth* gt = 0;
+    for (size_t i = 0; i < f.gt.size(); ++i)
+        if (f.gt[i].obj_id == obj.obj_id)
+        {
+            gt = &f.gt[i];
+            break;
+        }
+    if (!gt)
+        return;
+    const bool use_depth = ctx.use_depth;
+    fm::PoseParams pp;
+    pp.rgb_refine = ctx.rgb_refine;
+    if (!ctx.rgb_grid)
+        pp.edge_params.search_angle = 0;
+    // RGB-D: the best matches go through ICP and the depth check, the first one left is the
+    // hypothesis (LINEMOD ACCV 2012's post-processing). RGB: the best match; refined, its pose
+    // is chosen among the matches of the class overlapping it (as Detector::detect() does with
+    // PoseParams::rgb_hypotheses; both detectors' matches come here before any NMS)
+    const bool choose = !use_depth && ctx.rgb_refine;
+    const size_t keep = use_depth ? (size_t)pp.max_per_class
+                                  : choose ? (size_t)pp.rgb_hypotheses : 1;
+    if (choose)
+        pp.max_per_class = pp.rgb_hypotheses;
+    std::vector<fm::PoseMatch> hyp;
+    for (size_t i = 0; i < matches.size() && hyp.size() < keep; ++i)
+    {
+        if (matches[i].class_id != obj.class_id)
+            continue;
+        fm::PoseMatch pm(matches[i]);
+        pm.pose = posedet.getTemplatePose(matches[i].class_id, matches[i].template_id);
+        const cv::linemod::Template& t0 = posedet.getTemplates(matches[i].class_id,
+                                                               matches[i].template_id)[0];
+        pm.box = cv::Rect(matches[i].x, matches[i].y, t0.width, t0.height);
+        if (choose && !hyp.empty() && fm::boxIoU(pm.box, hyp[0].box) <= 0.5)
+            continue;
+        hyp.push_back(pm);
+    }
+    if (!hyp.empty())
+        posedet.estimatePoses(use_depth ? f.depth : cv::Mat(), f.K, hyp, pp,
+                              choose ? f.rgb : cv::Mat());
+    const fm::PoseMatch* best = 0;
+    for (size_t i = 0; i < hyp.size() && (!best || choose); ++i)
+        if (hyp[i].has_pose && (!best || hyp[i].edge_fit > best->edge_fit))
+            best = &hyp[i];
+    ++res.n2d;
+    if (use_depth)
+        ++res.nadd;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    FrameRecord rec;
+    rec.scene_id = f.scene_id;
+    rec.im_id = f.im_id;
+    rec.t_ms = res.total.empty() ? nan : res.total.back();
+    rec.template_id = -1;
+    rec.similarity = 0.f;
+    rec.iou = rec.proj = rec.add = nan;
+    for (size_t i = 0; i < matches.size() && rec.top.size() < 5; ++i)
+        if (matches[i].class_id == obj.class_id)
+            rec.top.push_back(matches[i]);
+    if (!best)
+    {
+        res.per_frame.push_back(rec);
+        return;
+    }
+    rec.template_id = best->template_id;
+    rec.similarity = best->similarity;
+    rec.pos = cv::Point(best->x, best->y);
+    cv::Rect2d gt_box = gt->bbox_obj;
+    if (gt_box.area() <= 0)
+        gt_box = projectedBox(obj.pts, f.K, gt->R, gt->t);
+    const cv::Rect2d est_box = projectedBox(obj.pts, f.K, best->R, best->t);
+    rec.iou = fm::boxIoU(est_box, gt_box);
+    if (rec.iou >= 0.5)
+        ++res.ok2d;
+    // 2D projection error, the smallest over the object's discrete symmetries
+    double proj = fm::projectionError2D(obj.pts, f.K, best->R, best->t, gt->R, gt->t);
+    for (size_t s = 0; s < obj.symmetries.size(); ++s)
+    {
+        const cv::Matx44d& S = obj.symmetries[s];
+        const cv::Matx33d SR(S(0, 0), S(0, 1), S(0, 2), S(1, 0), S(1, 1), S(1, 2), S(2, 0),
+                             S(2, 1), S(2, 2));
+        const cv::Vec3d St(S(0, 3), S(1, 3), S(2, 3));
+        proj = std::min(proj, fm::projectionError2D(obj.pts, f.K, best->R, best->t, gt->R * SR,
+                                                    gt->R * St + gt->t));
+    }
+    rec.proj = proj;
+    if (proj < 5.0)
+        ++res.okproj;
+    if (use_depth)
+    {
+        const double err = obj.symmetric ? fm::adiError(obj.pts, best->R, best->t, gt->R, gt->t)
+                                         : fm::addError(obj.pts, best->R, best->t, gt->R, gt->t);
+        rec.add = err / obj.diameter;
+        if (fm::isCorrect(err, obj.diameter, 0.1))
+            ++res.okadd;
+    }
+    res.per_frame.push_back(rec);
+}
+
+static std::vector<cv::Mat> sourcesOf(const std::vector<cv::Ptr<cv::linemod::Modality> >& mods,
+                                      const EvalFrame& f)
+{
+    std::vector<cv::Mat> s;
+    for (size_t m = 0; m < mods.size(); ++m)
+        s.push_back(mods[m]->name() == "DepthNormal" ? f.depth : f.rgb);
+    return s;
+}
+
+static bool frameFor(const EvalFrame& f, int object_index)
+{
+    return f.owner < 0 || object_index < 0 || f.owner == object_index;
+}
+
+void runForestmod(const fm::Detector& det, const std::vector<ObjectInfo*>& objs,
+                  int object_index, const RunContext& ctx, const std::string& label,
+                  std::vector<Result>& res, std::vector<std::pair<int, cv::Mat> >* heat,
+                  int heat_frames)
+{
+    CV_Assert(res.size() >= std::max<size_t>(1, objs.size()));
+    const std::vector<cv::Ptr<cv::linemod::Modality> > mods = det.getModalities();
+    int k = 0;
+    for (size_t i = 0; i < ctx.frames->size(); ++i)
+    {
+        const EvalFrame& f = (*ctx.frames)[i];
+        if (!frameFor(f, object_index))
+            continue;
+        const std::vector<cv::Mat> sources = sourcesOf(mods, f);
+        fm::DetectionStats best;
+        double best_ms = std::numeric_limits<double>::infinity();
+        std::vector<cv::linemod::Match> matches;
+        for (int rep = 0; rep < ctx.repeat; ++rep)
+        {
+            fm::DetectionStats stats;
+            matches.clear();
+            cv::TickMeter tm;
+            tm.start();
+            det.match(sources, ctx.threshold, matches, std::vector<cv::String>(), cv::noArray(),
+                      std::vector<cv::Mat>(), &stats);
+            tm.stop();
+            if (tm.getTimeMilli() < best_ms)
+            {
+                best_ms = tm.getTimeMilli();
+                best = stats;
+            }
+        }
+        if (heat && k < heat_frames)
+            heat->push_back(std::make_pair((int)i, best.rejection_map.clone()));
+        for (size_t o = 0; o < std::max<size_t>(1, objs.size()); ++o)
+        {
+            Result& r = res[o];
+            r.has_forest = true;
+            r.with_depth = ctx.use_depth;
+            r.total.push_back(best_ms);
+            r.tree.push_back(best.t_tree_ms);
+            r.valid.push_back(best.t_valid_ms);
+            r.quant.push_back(best.t_quantize_ms);
+            r.locations += best.locations;
+            r.rejected += best.rejected;
+            if (o < objs.size())
+                scoreFrame(matches, det, f, *objs[o], ctx, r);
+        }
+        ++k;
+        ctx.progress->step(cv::format("%s, frame %d", label.c_str(), k));
+    }
+}
+
+/** cv::linemod's front end on one frame, as its match() runs it: every modality's process(),
+then quantize() on every pyramid level (pyrDown() between levels). ms. */
+static double linemodQuantizeMs(const cv::linemod::Detector& lm,
+                                const std::vector<cv::Mat>& sources)
+{
+    const std::vector<cv::Ptr<cv::linemod::Modality> > mods = lm.getModalities();
+    cv::TickMeter tm;
+    tm.start();
+    for (size_t m = 0; m < mods.size(); ++m)
+    {
+        cv::Ptr<cv::linemod::QuantizedPyramid> qp = mods[m]->process(sources[m]);
+        for (int l = 0; l < lm.pyramidLevels(); ++l)
+        {
+            if (l > 0)
+                qp->pyrDown();
+            cv::Mat quantized;
+            qp->quantize(quantized);
+        }
+    }
+    tm.stop();
+    return tm.getTimeMilli();
+}
+
+void runLinemod(const cv::linemod::Detector& lm, const fm::Detector* posedet,
+                const std::vector<ObjectInfo*>& objs, int object_index, const RunContext& ctx,
+                const std::string& label, std::vector<Result>& res)
+{
+    CV_Assert(res.size() >= std::max<size_t>(1, objs.size()));
+    CV_Assert(posedet || objs.empty());
+    const std::vector<cv::Ptr<cv::linemod::Modality> > mods = lm.getModalities();
+    int k = 0;
+    for (size_t i = 0; i < ctx.frames->size(); ++i)
+    {
+        const EvalFrame& f = (*ctx.frames)[i];
+        if (!frameFor(f, object_index))
+            continue;
+        const std::vector<cv::Mat> sources = sourcesOf(mods, f);
+        std::vector<cv::linemod::Match> matches;
+        double best_ms = std::numeric_limits<double>::infinity();
+        double quant_ms = best_ms;
+        for (int rep = 0; rep < ctx.repeat; ++rep)
+        {
+            matches.clear();
+            cv::TickMeter tm;
+            tm.start();
+            lm.match(sources, ctx.threshold, matches);
+            tm.stop();
+            best_ms = std::min(best_ms, tm.getTimeMilli());
+            quant_ms = std::min(quant_ms, linemodQuantizeMs(lm, sources));
+        }
+        for (size_t o = 0; o < std::max<size_t>(1, objs.size()); ++o)
+        {
+            Result& r = res[o];
+            r.with_depth = ctx.use_depth;
+            r.total.push_back(best_ms);
+            r.quant.push_back(quant_ms);
+            if (o < objs.size())
+                scoreFrame(matches, *posedet, f, *objs[o], ctx, r);
+        }
+        ++k;
+        ctx.progress->step(cv::format("%s, frame %d", label.c_str(), k));
+    }
+}
+
+double trainDetector(fm::Detector& det, const EvalOptions& opt)
+{
+    cv::setNumThreads(opt.train_threads);
+    cv::TickMeter tm;
+    tm.start();
+    det.train();
+    tm.stop();
+    cv::setNumThreads(opt.threads);
+    return tm.getTimeSec();
+}
+
+} // namespace fmeval

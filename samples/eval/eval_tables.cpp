@@ -1,0 +1,283 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// forestmod_eval: the paper's Table 1 (one object per model: forestmod 1 and 5 trees,
+// cv::linemod) and Table 2 (all objects in one model), printed and written to the JSON.
+
+#include "eval_common.hpp"
+
+#include <opencv2/core/utils/filesystem.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <limits>
+
+namespace fmeval {
+
+int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
+              const std::vector<EvalFrame>& frames, const TemplateSetup& setup, bool use_depth,
+              cv::FileStorage& fs)
+{
+    const bool multi = opt.multi;
+    const std::string& heat_dir = opt.heat_dir;
+    const int heat_frames = opt.heat_frames;
+    Progress progress;
+
+    // heat maps must not overwrite files: the first object's model (1 tree) on its first
+    // frames, and the model of all objects (5 trees); the files are named after the frame
+    if (!heat_dir.empty())
+    {
+        std::vector<std::string> heat_files;
+        for (size_t i = 0; i < frames.size(); ++i)
+        {
+            int rank = 0; // position among the frames of the object the scene was made for
+            for (size_t j = 0; j < i; ++j)
+                rank += frames[j].owner == frames[i].owner;
+            if (rank < heat_frames && frames[i].owner <= 0) // the first object's (all when real)
+                heat_files.push_back(heatFile(heat_dir, "single", frames[i]));
+            if (i < (size_t)heat_frames && multi)
+                heat_files.push_back(heatFile(heat_dir, "all", frames[i]));
+        }
+        for (size_t i = 0; i < heat_files.size(); ++i)
+            if (cv::forestmod::samples::refuseOutput("forestmod_eval", heat_files[i], opt.force))
+                return 1;
+        cv::utils::fs::createDirectories(heat_dir);
+    }
+
+    // templates of every object: from the cache, or rendered (and cached)
+    std::vector<cv::Ptr<fm::Detector> > dets(objects.size());
+    std::vector<double> render(objects.size());
+    for (size_t o = 0; o < objects.size(); ++o)
+        dets[o] = objectTemplates(opt, objects[o], setup, progress, render[o]);
+
+    const int frames_per_object = opt.synthetic > 0 ? opt.synthetic : (int)frames.size();
+    progress.total = (int64)objects.size() * frames_per_object * 3
+        + (multi ? (int64)frames.size() * 2 : 0);
+    progress.done = 0;
+
+    RunContext ctx;
+    ctx.frames = &frames;
+    ctx.threshold = opt.threshold;
+    ctx.use_depth = use_depth;
+    ctx.rgb_refine = opt.rgb_refine;
+    ctx.rgb_grid = opt.rgb_grid;
+    ctx.repeat = opt.repeat;
+    ctx.progress = &progress;
+
+    // ---- Table 1: one object per model
+    std::vector<Result> r1(objects.size()), r5(objects.size()), rl(objects.size());
+    std::vector<double> train1(objects.size()), train5(objects.size());
+    std::vector<std::pair<int, cv::Mat> > heat_single, heat_all;
+    std::vector<std::string> skipped;
+    for (size_t o = 0; o < objects.size(); ++o)
+    {
+        ObjectInfo& obj = objects[o];
+        cv::Ptr<fm::Detector> det = dets[o];
+        dets[o].release();
+        if (!det)
+        {
+            skipped.push_back(obj.name);
+            progress.done += 3 * frames_per_object;
+            continue;
+        }
+        std::vector<ObjectInfo*> one(1, &obj);
+        const int oi = opt.synthetic > 0 ? (int)o : -1;
+        fm::DetectorParams p = det->getParams();
+        p.nms_iou = 0; // matches as cv::linemod returns them: the pose choice sees them all
+        for (int trees = 1; trees <= 5; trees += 4)
+        {
+            p.forest.num_trees = trees;
+            det->setParams(p);
+            progress.show(cv::format("%s: training %d tree(s)", obj.name.c_str(), trees));
+            (trees == 1 ? train1 : train5)[o] = trainDetector(*det, opt);
+            std::vector<Result> rr(1);
+            const bool want_heat = !heat_dir.empty() && o == 0 && trees == 1;
+            runForestmod(*det, one, oi, ctx,
+                         cv::format("%s: forestmod %d tree(s)", obj.name.c_str(), trees), rr,
+                         want_heat ? &heat_single : 0, heat_frames);
+            (trees == 1 ? r1 : r5)[o] = rr[0];
+        }
+        cv::Ptr<cv::linemod::Detector> lm = linemodCopy(*det);
+        std::vector<Result> rr(1);
+        runLinemod(*lm, det, one, oi, ctx, obj.name + ": cv::linemod", rr);
+        rl[o] = rr[0];
+    }
+
+    // objects without templates are left out from here on
+    {
+        size_t k = 0;
+        for (size_t o = 0; o < objects.size(); ++o)
+            if (objects[o].templates > 0)
+            {
+                objects[k] = objects[o];
+                r1[k] = r1[o];
+                r5[k] = r5[o];
+                rl[k] = rl[o];
+                train1[k] = train1[o];
+                train5[k] = train5[o];
+                render[k] = render[o];
+                ++k;
+            }
+        objects.resize(k);
+        if (objects.empty())
+        {
+            progress.finish();
+            std::cerr << "forestmod_eval: no object has a template with these modalities\n";
+            return 1;
+        }
+    }
+
+    // ---- Table 2: every object in one model (forestmod 5 trees vs cv::linemod)
+    Result m5, ml;
+    int multi_templates = 0;
+    double multi_train = 0;
+    std::vector<Result> m5o(objects.size()), mlo(objects.size());
+    if (multi)
+    {
+        progress.show("all objects: loading templates");
+        std::vector<ObjectInfo*> all;
+        for (size_t o = 0; o < objects.size(); ++o)
+            all.push_back(&objects[o]);
+        cv::Ptr<fm::Detector> det = multiObjectDetector(opt, setup.modalities, all);
+        multi_templates = det->numTemplates();
+        fm::DetectorParams p = det->getParams();
+        p.nms_iou = 0; // as for one object
+        p.forest.num_trees = 5;
+        det->setParams(p);
+        progress.show("all objects: training 5 trees");
+        multi_train = trainDetector(*det, opt);
+        runForestmod(*det, all, -1, ctx, "all objects: forestmod 5 trees", m5o,
+                     heat_dir.empty() ? 0 : &heat_all, heat_frames);
+        cv::Ptr<cv::linemod::Detector> lm = linemodCopy(*det);
+        runLinemod(*lm, det, all, -1, ctx, "all objects: cv::linemod", mlo);
+        m5 = pooled(m5o);
+        ml = pooled(mlo);
+    }
+    progress.finish();
+
+    // heat maps
+    for (int kind = 0; kind < 2; ++kind)
+    {
+        const std::vector<std::pair<int, cv::Mat> >& heat = kind ? heat_all : heat_single;
+        for (size_t i = 0; i < heat.size(); ++i)
+        {
+            const EvalFrame& f = frames[heat[i].first];
+            double mx = 0;
+            cv::minMaxLoc(heat[i].second, 0, &mx);
+            const std::string file = heatFile(heat_dir, kind ? "all" : "single", f);
+            if (!cv::imwrite(file, heatmapImage(f.rgb, heat[i].second, std::max(1, (int)mx))))
+                CV_Error_(cv::Error::StsError, ("cannot write %s", file.c_str()));
+        }
+    }
+
+    // ---- tables
+    printf("## Table 1: one object per model\n\n");
+    for (size_t i = 0; i < skipped.size(); ++i)
+        printf("- %s: left out, no view gave a template (every modality needs features: "
+               "ColorHue finds none on an unsaturated object)\n%s", skipped[i].c_str(),
+               i + 1 == skipped.size() ? "\n" : "");
+    printf("| object | detector | templates | T_tree | T_valid | T_quant | T_total | 2D IoU "
+           ">= 0.5 | proj < 5 px | ADD/ADI < 0.1 d | rejected |\n");
+    printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+    double s1 = 0, s5 = 0, sl = 0; // sums of the per-object median T_total
+    for (size_t o = 0; o < objects.size(); ++o)
+    {
+        const ObjectInfo& obj = objects[o];
+        printf("%s", mdRow(obj.name, "forestmod, 1 tree", obj.templates, r1[o]).c_str());
+        printf("%s", mdRow(obj.name, "forestmod, 5 trees", obj.templates, r5[o]).c_str());
+        printf("%s", mdRow(obj.name, "cv::linemod", obj.templates, rl[o]).c_str());
+        s1 += tTotal(r1[o]);
+        s5 += tTotal(r5[o]);
+        sl += tTotal(rl[o]);
+    }
+    const double n = (double)objects.size();
+    printf("%s", meanRow("forestmod, 1 tree", r1).c_str());
+    printf("%s", meanRow("forestmod, 5 trees", r5).c_str());
+    printf("%s", meanRow("cv::linemod", rl).c_str());
+    printf("\nT_quant: forestmod's DetectionStats::t_quantize_ms (modalities, spreading, response "
+           "maps); cv::linemod's modalities' process + pyrDown + quantize of every level, timed "
+           "apart on the same frame (its spreading and response maps are in T_total only).\n");
+    printf("\nTemplate rendering (cold cache, s) / forest training 1 tree / 5 trees (s):");
+    for (size_t o = 0; o < objects.size(); ++o)
+        printf(" %s %.1f/%.1f/%.1f%s", objects[o].name.c_str(), render[o], train1[o],
+               train5[o], o + 1 < objects.size() ? "," : "\n");
+    const double speedup_single = sl / s5;
+    double growth_fm = std::numeric_limits<double>::quiet_NaN(), growth_lm = growth_fm,
+           speedup_multi = growth_fm;
+    if (multi)
+    {
+        printf("\n## Table 2: all %d objects in one model (%d templates, forest training "
+               "%.1f s)\n\n", (int)objects.size(), multi_templates, multi_train);
+        printf("| object | detector | templates | T_tree | T_valid | T_quant | T_total | "
+               "2D IoU >= 0.5 | proj < 5 px | ADD/ADI < 0.1 d | rejected |\n");
+        printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+        printf("%s", mdRow("**all**", "forestmod, 5 trees", multi_templates, m5).c_str());
+        printf("%s", mdRow("**all**", "cv::linemod", multi_templates, ml).c_str());
+        for (size_t o = 0; o < objects.size(); ++o)
+        {
+            printf("%s", mdRow(objects[o].name, "forestmod, 5 trees", multi_templates,
+                               m5o[o]).c_str());
+            printf("%s", mdRow(objects[o].name, "cv::linemod", multi_templates, mlo[o]).c_str());
+        }
+        speedup_multi = tTotal(ml) / tTotal(m5);
+        growth_fm = tTotal(m5) / (s5 / n);
+        growth_lm = tTotal(ml) / (sl / n);
+    }
+    printf("\n## Summary\n\n");
+    printf("- speed-up, one object per model: cv::linemod / forestmod (5 trees) = %s "
+           "(1 tree: %s), mean of the per-object median T_total\n",
+           num(speedup_single).c_str(), num(sl / s1).c_str());
+    if (multi)
+    {
+        printf("- speed-up, all objects in one model: cv::linemod / forestmod (5 trees) = %s\n",
+               num(speedup_multi).c_str());
+        printf("- time growth, all objects in one model / mean single-object model: forestmod "
+               "(5 trees) %s, cv::linemod %s (%d objects)\n",
+               num(growth_fm).c_str(), num(growth_lm).c_str(), (int)objects.size());
+    }
+    printf("\n");
+    fflush(stdout);
+
+    // ---- JSON
+    if (fs.isOpened())
+    {
+        fs << "frames" << frames_per_object;
+        fs << "objects" << "[";
+        for (size_t o = 0; o < objects.size(); ++o)
+        {
+            fs << "{";
+            fs << "obj_id" << objects[o].obj_id << "name" << objects[o].name;
+            fs << "templates" << objects[o].templates;
+            writeResult(fs, "forestmod", r1[o], true);
+            writeResult(fs, "forestmod_5", r5[o], true);
+            writeResult(fs, "linemod", rl[o], true);
+            fs << "train_s" << "{" << "forestmod" << train1[o] << "forestmod_5" << train5[o]
+               << "}";
+            fs << "}";
+        }
+        fs << "]";
+        if (multi)
+        {
+            fs << "multi" << "{";
+            fs << "objects" << (int)objects.size() << "templates" << multi_templates;
+            writeResult(fs, "forestmod", m5, false);
+            writeResult(fs, "linemod", ml, false);
+            fs << "train_s" << multi_train;
+            fs << "}";
+        }
+        else
+            fs << "multi" << "n/a";
+        fs << "summary" << "{";
+        writeNumber(fs, "speedup_single", speedup_single);
+        writeNumber(fs, "speedup_single_1tree", sl / s1);
+        writeNumber(fs, "speedup_multi", speedup_multi);
+        writeNumber(fs, "growth_multi_over_single", growth_fm);
+        writeNumber(fs, "growth_multi_over_single_linemod", growth_lm);
+        fs << "}";
+    }
+    return 0;
+}
+
+} // namespace fmeval
