@@ -1,0 +1,756 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Bit-exact fast quantization of the standard modalities, vectorised spreading and response maps
+// (quantize_fast.hpp). What each step must reproduce:
+//
+// ColorGradient (LINEMOD 2.2): 7x7 Gaussian blur (BORDER_REPLICATE), 3x3 Sobel per channel
+// (16-bit, BORDER_REPLICATE), per pixel the channel of largest dx^2 + dy^2 (ties: the first),
+// cv::phase in degrees of that channel's (dx, dy), rounded to 16 bins (x 16/360, round to
+// nearest even) and folded to 8 (& 7), image border set to bin 0; a pixel keeps its bin
+// (1 << bin) when its magnitude is above weak_threshold^2 and at least 5 of its 3x3 neighbours
+// share a bin; the border rows and columns stay 0. The level's mask (INTER_NEAREST of the
+// previous one) zeroes the rest.
+//
+// ColorHue: optional Gaussian blur (BORDER_REPLICATE), HSV, 1 << hueBin(h) where s and v pass
+// their thresholds, masked.
+//
+// The OpenCV functions used here are called on whole images or on images of whole rows that
+// OpenCV treats exactly as the full image (the same code path for every pixel), so their
+// results do not depend on how the frame is cut into stripes.
+
+#include "precomp.hpp"
+#include "quantize_fast.hpp"
+#include "validator.hpp"
+
+#include "opencv2/core/hal/hal.hpp"
+#include "opencv2/core/hal/intrin.hpp"
+
+#include <typeinfo>
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+using linemod::Modality;
+
+ModalityInfo classifyModality(const Ptr<Modality>& modality)
+{
+    ModalityInfo info;
+    if (!modality)
+        return info;
+    const Modality& m = *modality;
+    if (typeid(m) == typeid(linemod::ColorGradient))
+    {
+        const linemod::ColorGradient& g = static_cast<const linemod::ColorGradient&>(m);
+        info.kind = MODALITY_COLOR_GRADIENT;
+        info.weak_threshold = g.weak_threshold;
+    }
+    else if (typeid(m) == typeid(linemod::DepthNormal))
+    {
+        const linemod::DepthNormal& d = static_cast<const linemod::DepthNormal&>(m);
+        info.kind = MODALITY_DEPTH_NORMAL;
+        info.distance_threshold = d.distance_threshold;
+        info.difference_threshold = d.difference_threshold;
+    }
+    else if (typeid(m) == typeid(ColorHue))
+    {
+        const ColorHue::Params& p = static_cast<const ColorHue&>(m).getParams();
+        info.kind = MODALITY_COLOR_HUE;
+        info.saturation_threshold = p.saturation_threshold;
+        info.value_threshold = p.value_threshold;
+        info.blur_size = p.blur_size;
+    }
+    return info;
+}
+
+bool hasFastPath(const ModalityInfo& info)
+{
+    return info.kind == MODALITY_COLOR_GRADIENT || info.kind == MODALITY_COLOR_HUE;
+}
+
+namespace {
+
+// Stripes for parallel_for_: one per thread is not enough to balance a shared machine; a stripe
+// recomputes a few context rows, so not too many either.
+int stripesFor(int rows, int cols, int min_rows)
+{
+    const int threads = getNumThreads();
+    if (threads <= 1 || cols < 32 || rows < 2 * min_rows)
+        return 1;
+    return std::max(1, std::min(rows / min_rows, 4 * threads));
+}
+
+// Rows [a, b) of `src` as an image of its own (not a submatrix): OpenCV's filters then treat
+// them exactly as a whole image, with `border` replicated at their first and last rows. When the
+// source itself is a submatrix (a ROI the caller passed), a ROI of it keeps that behaviour.
+Mat rowsAsImage(const Mat& src, int a, int b)
+{
+    if (src.isSubmatrix())
+        return src.rowRange(a, b);
+    return Mat(b - a, src.cols, src.type(), const_cast<uchar*>(src.ptr(a)), src.step);
+}
+
+// ------------------------------------------------------------------------------------------
+// ColorGradient
+
+// Per-channel Sobel dx, dy (BORDER_REPLICATE) of one row of an interleaved 3-channel image:
+// up, mid, dn point to the first byte of the rows above, at and below, each with one replicated
+// pixel (3 bytes) readable on both sides; n = 3 * cols.
+void sobelRow3(const uchar* up, const uchar* mid, const uchar* dn, int n, short* dx, short* dy)
+{
+    int k = 0;
+#if CV_SIMD128
+    for (; k <= n - 16; k += 16)
+    {
+        v_uint16x8 a0, a1, b0, b1, c0, c1;
+        v_int16x8 dxl, dxh, dyl, dyh;
+        // up row
+        v_expand(v_load(up + k - 3), a0, a1);
+        v_expand(v_load(up + k), b0, b1);
+        v_expand(v_load(up + k + 3), c0, c1);
+        v_int16x8 l0 = v_reinterpret_as_s16(a0), l1 = v_reinterpret_as_s16(a1);
+        v_int16x8 m0 = v_reinterpret_as_s16(b0), m1 = v_reinterpret_as_s16(b1);
+        v_int16x8 r0 = v_reinterpret_as_s16(c0), r1 = v_reinterpret_as_s16(c1);
+        dxl = r0 - l0;
+        dxh = r1 - l1;
+        dyl = v_setzero_s16() - (l0 + m0 + m0 + r0);
+        dyh = v_setzero_s16() - (l1 + m1 + m1 + r1);
+        // middle row
+        v_expand(v_load(mid + k - 3), a0, a1);
+        v_expand(v_load(mid + k + 3), c0, c1);
+        l0 = v_reinterpret_as_s16(a0);
+        l1 = v_reinterpret_as_s16(a1);
+        r0 = v_reinterpret_as_s16(c0);
+        r1 = v_reinterpret_as_s16(c1);
+        dxl += (r0 - l0) + (r0 - l0);
+        dxh += (r1 - l1) + (r1 - l1);
+        // row below
+        v_expand(v_load(dn + k - 3), a0, a1);
+        v_expand(v_load(dn + k), b0, b1);
+        v_expand(v_load(dn + k + 3), c0, c1);
+        l0 = v_reinterpret_as_s16(a0);
+        l1 = v_reinterpret_as_s16(a1);
+        m0 = v_reinterpret_as_s16(b0);
+        m1 = v_reinterpret_as_s16(b1);
+        r0 = v_reinterpret_as_s16(c0);
+        r1 = v_reinterpret_as_s16(c1);
+        dxl += r0 - l0;
+        dxh += r1 - l1;
+        dyl += l0 + m0 + m0 + r0;
+        dyh += l1 + m1 + m1 + r1;
+        v_store(dx + k, dxl);
+        v_store(dx + k + 8, dxh);
+        v_store(dy + k, dyl);
+        v_store(dy + k + 8, dyh);
+    }
+#endif
+    for (; k < n; ++k)
+    {
+        dx[k] = (short)((up[k + 3] - up[k - 3]) + 2 * (mid[k + 3] - mid[k - 3])
+                        + (dn[k + 3] - dn[k - 3]));
+        dy[k] = (short)((dn[k - 3] + 2 * dn[k] + dn[k + 3]) - (up[k - 3] + 2 * up[k] + up[k + 3]));
+    }
+}
+
+// The channel of largest magnitude (ties: the first, as LINEMOD): its dx, dy as float and
+// whether its magnitude passes the threshold (0xFF / 0).
+void strongestChannel(const short* dx, const short* dy, int cols, int ithr, float* fx, float* fy,
+                      uchar* strong)
+{
+    int c = 0;
+#if CV_SIMD128
+    const v_int32x4 vthr = v_setall_s32(ithr);
+    for (; c <= cols - 8; c += 8)
+    {
+        v_int16x8 x0, x1, x2, y0, y1, y2;
+        v_load_deinterleave(dx + 3 * c, x0, x1, x2);
+        v_load_deinterleave(dy + 3 * c, y0, y1, y2);
+        v_int16x8 z0, z1;
+        v_zip(x0, y0, z0, z1);
+        const v_int32x4 m0l = v_dotprod(z0, z0), m0h = v_dotprod(z1, z1);
+        v_zip(x1, y1, z0, z1);
+        const v_int32x4 m1l = v_dotprod(z0, z0), m1h = v_dotprod(z1, z1);
+        v_zip(x2, y2, z0, z1);
+        const v_int32x4 m2l = v_dotprod(z0, z0), m2h = v_dotprod(z1, z1);
+        const v_int32x4 s0l = (m0l >= m1l) & (m0l >= m2l), s0h = (m0h >= m1h) & (m0h >= m2h);
+        const v_int32x4 s1l = (m1l >= m0l) & (m1l >= m2l), s1h = (m1h >= m0h) & (m1h >= m2h);
+        const v_int32x4 ml = v_select(s0l, m0l, v_select(s1l, m1l, m2l));
+        const v_int32x4 mh = v_select(s0h, m0h, v_select(s1h, m1h, m2h));
+        const v_int16x8 s0 = v_pack(s0l, s0h), s1 = v_pack(s1l, s1h);
+        const v_int16x8 xs = v_select(s0, x0, v_select(s1, x1, x2));
+        const v_int16x8 ys = v_select(s0, y0, v_select(s1, y1, y2));
+        v_int32x4 lo, hi;
+        v_expand(xs, lo, hi);
+        v_store(fx + c, v_cvt_f32(lo));
+        v_store(fx + c + 4, v_cvt_f32(hi));
+        v_expand(ys, lo, hi);
+        v_store(fy + c, v_cvt_f32(lo));
+        v_store(fy + c + 4, v_cvt_f32(hi));
+        const v_int16x8 ok = v_pack(ml > vthr, mh > vthr);
+        v_pack_store(reinterpret_cast<schar*>(strong + c), ok);
+    }
+#endif
+    for (; c < cols; ++c)
+    {
+        const int i = 3 * c;
+        const int m0 = dx[i] * dx[i] + dy[i] * dy[i];
+        const int m1 = dx[i + 1] * dx[i + 1] + dy[i + 1] * dy[i + 1];
+        const int m2 = dx[i + 2] * dx[i + 2] + dy[i + 2] * dy[i + 2];
+        int ch, m;
+        if (m0 >= m1 && m0 >= m2)
+        {
+            ch = 0;
+            m = m0;
+        }
+        else if (m1 >= m0 && m1 >= m2)
+        {
+            ch = 1;
+            m = m1;
+        }
+        else
+        {
+            ch = 2;
+            m = m2;
+        }
+        fx[c] = dx[i + ch];
+        fy[c] = dy[i + ch];
+        strong[c] = m > ithr ? 255 : 0;
+    }
+}
+
+// One-hot orientation (1 << (round(angle * 16/360) & 7)) of a row of angles in degrees; the
+// first and last columns get bin 0 as LINEMOD's border.
+void orientationRow(const float* angle, int cols, uchar* onehot)
+{
+    const float scale = (float)(16.0 / 360.0); // what convertTo(CV_8U, 16.0 / 360.0) uses
+    int c = 0;
+#if CV_SIMD128
+    const v_float32x4 vs = v_setall_f32(scale);
+    const v_uint8x16 seven = v_setall_u8(7);
+    for (; c <= cols - 16; c += 16)
+    {
+        const v_int32x4 i0 = v_round(v_load(angle + c) * vs);
+        const v_int32x4 i1 = v_round(v_load(angle + c + 4) * vs);
+        const v_int32x4 i2 = v_round(v_load(angle + c + 8) * vs);
+        const v_int32x4 i3 = v_round(v_load(angle + c + 12) * vs);
+        const v_uint8x16 bin = v_pack_u(v_pack(i0, i1), v_pack(i2, i3)) & seven;
+        v_uint8x16 oh = v_setzero_u8();
+        for (int k = 0; k < 8; ++k)
+            oh |= (bin == v_setall_u8((uchar)k)) & v_setall_u8((uchar)(1 << k));
+        v_store(onehot + c, oh);
+    }
+#endif
+    for (; c < cols; ++c)
+        onehot[c] = (uchar)(1 << (saturate_cast<uchar>(angle[c] * scale) & 7));
+    onehot[0] = 1;
+    onehot[cols - 1] = 1;
+}
+
+// 1 << bin where at least 5 of the 3x3 one-hot labels around a pixel share the bin, else 0:
+// per bit, a bit-sliced count of the 9 neighbours (full adders on bytes), >= 5 when
+// bit3 | (bit2 & (bit1 | bit0)). At most one bin can reach 5 of 9.
+template <typename V> static inline V majority9(const V& a0, const V& a1, const V& a2,
+                                                 const V& b0, const V& b1, const V& b2,
+                                                 const V& c0, const V& c1, const V& c2)
+{
+    // each row: 2-bit count (s weight 1, k weight 2)
+    const V xa = a0 ^ a1, xb = b0 ^ b1, xc = c0 ^ c1;
+    const V sa = xa ^ a2, ka = (a0 & a1) | (a2 & xa);
+    const V sb = xb ^ b2, kb = (b0 & b1) | (b2 & xb);
+    const V sc = xc ^ c2, kc = (c0 & c1) | (c2 & xc);
+    // sum of the rows
+    const V xs = sa ^ sb, xk = ka ^ kb;
+    const V bit0 = xs ^ sc;
+    const V c1w2 = (sa & sb) | (sc & xs); // weight 2
+    const V s2 = xk ^ kc;                  // weight 2
+    const V c2w4 = (ka & kb) | (kc & xk);  // weight 4
+    const V bit1 = c1w2 ^ s2;
+    const V t = c1w2 & s2; // weight 4
+    const V bit2 = c2w4 ^ t;
+    const V bit3 = c2w4 & t;
+    return bit3 | (bit2 & (bit1 | bit0));
+}
+
+void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar* strong,
+                 const uchar* mask, int cols, uchar* dst)
+{
+    dst[0] = 0;
+    dst[cols - 1] = 0;
+    int c = 1;
+#if CV_SIMD128
+    const v_uint8x16 z = v_setzero_u8();
+    for (; c <= cols - 17; c += 16)
+    {
+        v_uint8x16 v = majority9(v_load(up + c - 1), v_load(up + c), v_load(up + c + 1),
+                                 v_load(mid + c - 1), v_load(mid + c), v_load(mid + c + 1),
+                                 v_load(dn + c - 1), v_load(dn + c), v_load(dn + c + 1));
+        v &= v_load(strong + c);
+        if (mask)
+            v = v_select(v_load(mask + c) == z, z, v);
+        v_store(dst + c, v);
+    }
+#endif
+    for (; c < cols - 1; ++c)
+    {
+        uchar v = majority9<uchar>(up[c - 1], up[c], up[c + 1], mid[c - 1], mid[c], mid[c + 1],
+                                   dn[c - 1], dn[c], dn[c + 1]);
+        v &= strong[c];
+        if (mask && !mask[c])
+            v = 0;
+        dst[c] = v;
+    }
+}
+
+void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold, Mat& dst)
+{
+    CV_Assert(src.type() == CV_8UC3);
+    const int rows = src.rows, cols = src.cols;
+    dst.create(rows, cols, CV_8U);
+    if (rows < 3 || cols < 3)
+    {
+        dst.setTo(Scalar::all(0));
+        return;
+    }
+    // LINEMOD: float magnitude (exact: below 2^24) > float threshold^2
+    const float thr = weak_threshold * weak_threshold;
+    int ithr;
+    if (!(thr >= 0.f))
+        ithr = -1;
+    else if ((double)thr >= (double)INT_MAX)
+        ithr = INT_MAX;
+    else
+        ithr = (int)std::floor((double)thr);
+
+    const int nstripes = stripesFor(rows, cols, 24);
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        const int a = range.start, b = range.end;
+        // rows whose one-hot label is needed, rows smoothed for their Sobel, rows blurred from
+        const int la = std::max(a - 1, 0), lb = std::min(b + 1, rows);
+        const int sa = std::max(la - 1, 0), sb = std::min(lb + 1, rows);
+        const int ga = std::max(sa - 3, 0), gb = std::min(sb + 3, rows);
+        const int nl = lb - la;
+
+        Mat blurred_buf(gb - ga, cols + 2, CV_8UC3);
+        Mat blurred = blurred_buf.colRange(1, cols + 1);
+        GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(7, 7), 0, 0, BORDER_REPLICATE);
+        CV_Assert(blurred.data == blurred_buf.data + 3);
+        for (int r = sa; r < sb; ++r)
+        {
+            uchar* p = blurred_buf.ptr<uchar>(r - ga);
+            p[0] = p[3];
+            p[1] = p[4];
+            p[2] = p[5];
+            uchar* q = p + 3 * (cols + 1);
+            q[0] = q[-3];
+            q[1] = q[-2];
+            q[2] = q[-1];
+        }
+
+        Mat fx(nl, cols, CV_32F), fy(nl, cols, CV_32F), angle(nl, cols, CV_32F);
+        Mat strong(nl, cols, CV_8U), onehot(nl, cols, CV_8U);
+        std::vector<short> dxbuf(3 * cols), dybuf(3 * cols);
+        for (int r = la; r < lb; ++r)
+        {
+            const uchar* up = blurred_buf.ptr<uchar>(std::max(r - 1, 0) - ga) + 3;
+            const uchar* mid = blurred_buf.ptr<uchar>(r - ga) + 3;
+            const uchar* dn = blurred_buf.ptr<uchar>(std::min(r + 1, rows - 1) - ga) + 3;
+            sobelRow3(up, mid, dn, 3 * cols, &dxbuf[0], &dybuf[0]);
+            strongestChannel(&dxbuf[0], &dybuf[0], cols, ithr, fx.ptr<float>(r - la),
+                             fy.ptr<float>(r - la), strong.ptr<uchar>(r - la));
+        }
+        // cv::phase on continuous rows of at least 32 values (stripesFor) runs the same code
+        // on every pixel as on the whole image
+        hal::fastAtan32f(fy.ptr<float>(), fx.ptr<float>(), angle.ptr<float>(), nl * cols, true);
+        for (int r = la; r < lb; ++r)
+        {
+            uchar* oh = onehot.ptr<uchar>(r - la);
+            if (r == 0 || r == rows - 1)
+                memset(oh, 1, cols);
+            else
+                orientationRow(angle.ptr<float>(r - la), cols, oh);
+        }
+        for (int r = a; r < b; ++r)
+        {
+            uchar* d = dst.ptr<uchar>(r);
+            if (r == 0 || r == rows - 1)
+            {
+                memset(d, 0, cols);
+                continue;
+            }
+            majorityRow(onehot.ptr<uchar>(r - 1 - la), onehot.ptr<uchar>(r - la),
+                        onehot.ptr<uchar>(r + 1 - la), strong.ptr<uchar>(r - la),
+                        mask.empty() ? 0 : mask.ptr<uchar>(r), cols, d);
+        }
+    }, nstripes);
+}
+
+// ------------------------------------------------------------------------------------------
+// ColorHue
+
+void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, uchar* dst)
+{
+    // hueBin(h) = ((4 h + 45) / 90) & 7 changes at h = 12, 34, 57, 79, 102, 124, 147, 169
+    static const uchar edges[9] = { 0, 12, 34, 57, 79, 102, 124, 147, 169 };
+    int c = 0;
+#if CV_SIMD128
+    const v_uint8x16 vs = v_setall_u8((uchar)std::min(smin, 255));
+    const v_uint8x16 vv = v_setall_u8((uchar)std::min(vmin, 255));
+    const v_uint8x16 z = v_setzero_u8();
+    const v_uint8x16 h180 = v_setall_u8(180);
+    for (; c <= cols - 16; c += 16)
+    {
+        v_uint8x16 h, s, v;
+        v_load_deinterleave(hsv + 3 * c, h, s, v);
+        // bin 0 also covers [169, 180)
+        v_uint8x16 oh = (h >= v_setall_u8(edges[8])) & (h < h180) & v_setall_u8(1);
+        for (int k = 0; k < 8; ++k)
+        {
+            const v_uint8x16 in = (h >= v_setall_u8(edges[k])) & (h < v_setall_u8(edges[k + 1]));
+            oh |= in & v_setall_u8((uchar)(1 << k));
+        }
+        oh &= (s >= vs) & (v >= vv);
+        if (mask)
+            oh = v_select(v_load(mask + c) == z, z, oh);
+        v_store(dst + c, oh);
+    }
+#endif
+    for (; c < cols; ++c)
+    {
+        const uchar* p = hsv + 3 * c;
+        uchar q = 0;
+        if (p[0] < 180 && p[1] >= smin && p[2] >= vmin)
+            q = (uchar)(1 << hueBin(p[0]));
+        if (mask && !mask[c])
+            q = 0;
+        dst[c] = q;
+    }
+}
+
+void quantizeHueLevel(const Mat& src, const Mat& mask, const ModalityInfo& info, Mat& dst)
+{
+    CV_Assert(src.type() == CV_8UC3);
+    const int rows = src.rows, cols = src.cols;
+    dst.create(rows, cols, CV_8U);
+    const int smin = std::max(0, info.saturation_threshold);
+    const int vmin = std::max(0, info.value_threshold);
+    if (smin > 255 || vmin > 255) // no pixel passes
+    {
+        dst.setTo(Scalar::all(0));
+        return;
+    }
+    const int k = info.blur_size > 1 ? info.blur_size : 0;
+    const int nstripes = stripesFor(rows, cols, 16);
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        const int a = range.start, b = range.end;
+        Mat smoothed;
+        if (k > 0)
+        {
+            const int ga = std::max(a - k / 2, 0), gb = std::min(b + k / 2, rows);
+            Mat blurred;
+            GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(k, k), 0, 0, BORDER_REPLICATE);
+            smoothed = blurred.rowRange(a - ga, b - ga);
+        }
+        else
+        {
+            smoothed = src.rowRange(a, b);
+        }
+        Mat hsv;
+        cvtColor(smoothed, hsv, COLOR_BGR2HSV);
+        for (int r = a; r < b; ++r)
+            hueRow(hsv.ptr<uchar>(r - a), mask.empty() ? 0 : mask.ptr<uchar>(r), cols, smin, vmin,
+                   dst.ptr<uchar>(r));
+    }, nstripes);
+}
+
+void checkInputs(const ModalityInfo& info, const Mat& src, const Mat& mask)
+{
+    if (src.empty())
+        CV_Error(Error::StsBadArg, "fastQuantize: the source image is empty");
+    if (info.kind == MODALITY_COLOR_GRADIENT || info.kind == MODALITY_COLOR_HUE)
+    {
+        if (src.type() != CV_8UC3)
+            CV_Error_(Error::StsUnsupportedFormat,
+                      ("fastQuantize: a colour modality needs a CV_8UC3 image, got %s",
+                       typeToString(src.type()).c_str()));
+    }
+    if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != src.size()))
+        CV_Error_(Error::StsBadArg,
+                  ("fastQuantize: the mask must be CV_8UC1 of the image's size %dx%d, got %s %dx%d",
+                   src.cols, src.rows, typeToString(mask.type()).c_str(), mask.cols, mask.rows));
+}
+
+void quantizeLevel(const ModalityInfo& info, const Mat& src, const Mat& mask, Mat& dst)
+{
+    if (info.kind == MODALITY_COLOR_GRADIENT)
+        quantizeGradientLevel(src, mask, info.weak_threshold, dst);
+    else
+        quantizeHueLevel(src, mask, info, dst);
+}
+
+// The next level of an image (the modalities' pyrDown) or of a mask (INTER_NEAREST).
+Mat nextImage(const Mat& img)
+{
+    Mat down;
+    pyrDown(img, down, Size(img.cols / 2, img.rows / 2));
+    return down;
+}
+
+Mat nextMask(const Mat& mask)
+{
+    if (mask.empty())
+        return Mat();
+    Mat down;
+    resize(mask, down, Size(mask.cols / 2, mask.rows / 2), 0.0, 0.0, INTER_NEAREST);
+    return down;
+}
+
+bool sameData(const Mat& a, const Mat& b)
+{
+    return a.data == b.data && a.size() == b.size() && a.type() == b.type() && a.step == b.step;
+}
+
+} // namespace
+
+bool fastQuantize(const ModalityInfo& info, const Mat& src, const Mat& mask, int levels,
+                  std::vector<Mat>& quantized)
+{
+    if (!hasFastPath(info))
+        return false;
+    CV_Assert(levels >= 1);
+    checkInputs(info, src, mask);
+    quantized.resize(levels);
+    Mat img = src, m = mask;
+    for (int l = 0; l < levels; ++l)
+    {
+        if (l > 0)
+        {
+            img = nextImage(img);
+            m = nextMask(m);
+        }
+        quantizeLevel(info, img, m, quantized[l]);
+    }
+    return true;
+}
+
+bool fastQuantize(const Ptr<Modality>& modality, const Mat& src, const Mat& mask, int levels,
+                  std::vector<Mat>& quantized)
+{
+    return fastQuantize(classifyModality(modality), src, mask, levels, quantized);
+}
+
+void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
+                       const std::vector<ModalityInfo>& infos_in, const std::vector<Mat>& sources,
+                       const std::vector<Mat>& masks, int levels,
+                       std::vector<std::vector<Mat> >& quantized)
+{
+    const int M = (int)modalities.size();
+    CV_Assert(levels >= 1 && (int)sources.size() == M);
+    CV_Assert(masks.empty() || (int)masks.size() == M);
+    CV_Assert(infos_in.empty() || (int)infos_in.size() == M);
+    std::vector<ModalityInfo> infos = infos_in;
+    if (infos.empty())
+    {
+        infos.resize(M);
+        for (int i = 0; i < M; ++i)
+            infos[i] = classifyModality(modalities[i]);
+    }
+    quantized.assign(levels, std::vector<Mat>(M));
+
+    // pyramids of the images and masks, shared by the modalities given the same data
+    std::vector<int> img_of(M, -1), mask_of(M, -1);
+    std::vector<std::vector<Mat> > imgs, msks;
+    for (int i = 0; i < M; ++i)
+    {
+        if (!hasFastPath(infos[i]))
+        {
+            Ptr<linemod::QuantizedPyramid> qp
+                = modalities[i]->process(sources[i], masks.empty() ? Mat() : masks[i]);
+            for (int l = 0; l < levels; ++l)
+            {
+                if (l > 0)
+                    qp->pyrDown();
+                qp->quantize(quantized[l][i]);
+            }
+            continue;
+        }
+        const Mat mask = masks.empty() ? Mat() : masks[i];
+        checkInputs(infos[i], sources[i], mask);
+        for (int j = 0; j < (int)imgs.size() && img_of[i] < 0; ++j)
+            if (sameData(imgs[j][0], sources[i]))
+                img_of[i] = j;
+        if (img_of[i] < 0)
+        {
+            img_of[i] = (int)imgs.size();
+            imgs.push_back(std::vector<Mat>(1, sources[i]));
+        }
+        for (int j = 0; j < (int)msks.size() && mask_of[i] < 0; ++j)
+            if (sameData(msks[j][0], mask))
+                mask_of[i] = j;
+        if (mask_of[i] < 0)
+        {
+            mask_of[i] = (int)msks.size();
+            msks.push_back(std::vector<Mat>(1, mask));
+        }
+    }
+    for (int l = 0; l < levels; ++l)
+    {
+        if (l > 0)
+        {
+            for (size_t j = 0; j < imgs.size(); ++j)
+                imgs[j].push_back(nextImage(imgs[j][l - 1]));
+            for (size_t j = 0; j < msks.size(); ++j)
+                msks[j].push_back(nextMask(msks[j][l - 1]));
+        }
+        for (int i = 0; i < M; ++i)
+            if (hasFastPath(infos[i]))
+                quantizeLevel(infos[i], imgs[img_of[i]][l], msks[mask_of[i]][l],
+                              quantized[l][i]);
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Spreading and response maps
+
+void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad)
+{
+    CV_Assert(src.type() == CV_8UC1 && T > 0 && pad >= 0);
+    const int srows = src.rows, scols = src.cols;
+    const int rows = srows + pad, cols = scols + pad;
+    dst.create(rows, cols, CV_8U);
+    const int nstripes = stripesFor(rows, cols, 32);
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        // OR along rows for the source rows this stripe reads, then along columns
+        const int h0 = std::min(range.start, srows);
+        const int h1 = std::min(range.end + T - 1, srows);
+        Mat horiz(std::max(h1 - h0, 1), cols, CV_8U);
+        std::vector<uchar> line(cols + T + 16, 0);
+        for (int r = h0; r < h1; ++r)
+        {
+            memcpy(&line[0], src.ptr<uchar>(r), scols);
+            const uchar* s = &line[0];
+            uchar* d = horiz.ptr<uchar>(r - h0);
+            int c = 0;
+#if CV_SIMD128
+            for (; c <= cols - 16; c += 16)
+            {
+                v_uint8x16 acc = v_load(s + c);
+                for (int k = 1; k < T; ++k)
+                    acc |= v_load(s + c + k);
+                v_store(d + c, acc);
+            }
+#endif
+            for (; c < cols; ++c)
+            {
+                uchar acc = 0;
+                for (int k = 0; k < T; ++k)
+                    acc |= s[c + k];
+                d[c] = acc;
+            }
+        }
+        for (int r = range.start; r < range.end; ++r)
+        {
+            uchar* d = dst.ptr<uchar>(r);
+            const int n = std::min(T, srows - r); // source rows [r, r + n)
+            if (n <= 0)
+            {
+                memset(d, 0, cols);
+                continue;
+            }
+            const uchar* first = horiz.ptr<uchar>(r - h0);
+            const size_t step = horiz.step;
+            int c = 0;
+#if CV_SIMD128
+            for (; c <= cols - 16; c += 16)
+            {
+                v_uint8x16 acc = v_load(first + c);
+                for (int k = 1; k < n; ++k)
+                    acc |= v_load(first + k * step + c);
+                v_store(d + c, acc);
+            }
+#endif
+            for (; c < cols; ++c)
+            {
+                uchar acc = 0;
+                for (int k = 0; k < n; ++k)
+                    acc |= first[k * step + c];
+                d[c] = acc;
+            }
+        }
+    }, nstripes);
+}
+
+void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response)
+{
+    CV_Assert(spread.type() == CV_8UC1);
+    response.resize(8);
+    for (int o = 0; o < 8; ++o)
+        response[o].create(spread.size(), CV_8U);
+    // response[o] = 4 - (circular distance from o to the nearest label present), 0 beyond 3:
+    // the number of the nested label sets {o}, {o, o+-1}, {o..o+-2}, {o..o+-3} that meet the pixel
+    uchar within[8][4];
+    for (int o = 0; o < 8; ++o)
+    {
+        uchar m = 0;
+        for (int d = 0; d < 4; ++d)
+        {
+            m |= (uchar)((1 << ((o + d) & 7)) | (1 << ((o - d + 8) & 7)));
+            within[o][d] = m;
+        }
+    }
+    uchar lut[8][256]; // the same, for the scalar path
+    for (int o = 0; o < 8; ++o)
+        for (int x = 0; x < 256; ++x)
+        {
+            int v = 0;
+            for (int d = 0; d < 4; ++d)
+                v += (x & within[o][d]) ? 1 : 0;
+            lut[o][x] = (uchar)v;
+        }
+    const int rows = spread.rows, cols = spread.cols;
+    const int nstripes = stripesFor(rows, cols, 32);
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        for (int r = range.start; r < range.end; ++r)
+        {
+            const uchar* s = spread.ptr<uchar>(r);
+            uchar* d[8];
+            for (int o = 0; o < 8; ++o)
+                d[o] = response[o].ptr<uchar>(r);
+            int c = 0;
+#if CV_SIMD128
+            const v_uint8x16 z = v_setzero_u8(), four = v_setall_u8(4);
+            for (; c <= cols - 16; c += 16)
+            {
+                const v_uint8x16 x = v_load(s + c);
+                for (int o = 0; o < 8; ++o)
+                {
+                    // each empty set adds 0xFF (-1)
+                    v_uint8x16 v = v_add_wrap(four, (x & v_setall_u8(within[o][0])) == z);
+                    v = v_add_wrap(v, (x & v_setall_u8(within[o][1])) == z);
+                    v = v_add_wrap(v, (x & v_setall_u8(within[o][2])) == z);
+                    v = v_add_wrap(v, (x & v_setall_u8(within[o][3])) == z);
+                    v_store(d[o] + c, v);
+                }
+            }
+#endif
+            for (; c < cols; ++c)
+                for (int o = 0; o < 8; ++o)
+                    d[o][c] = lut[o][s[c]];
+        }
+    }, nstripes);
+}
+
+void spreadLabelsReference(const Mat& src, Mat& dst, int T, int pad)
+{
+    spreadLabels(src, dst, T, pad);
+}
+
+void computeResponseMapsReference(const Mat& spread, std::vector<Mat>& response)
+{
+    computeResponseMaps(spread, response);
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
