@@ -303,6 +303,92 @@ void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar
     }
 }
 
+// Scratch memory of the calling thread, kept between calls (fresh buffers of a few MB per frame
+// cost more in page faults than the work done in them). slot: one per buffer in use at a time.
+enum { SCRATCH_SLOTS = 8 };
+Mat scratch(int slot, int rows, int cols, int type)
+{
+    static thread_local std::vector<uchar> pool[SCRATCH_SLOTS];
+    CV_DbgAssert(slot >= 0 && slot < SCRATCH_SLOTS);
+    const size_t need = (size_t)rows * cols * CV_ELEM_SIZE(type) + CV_SIMD_WIDTH + 64;
+    std::vector<uchar>& buf = pool[slot];
+    if (buf.size() < need)
+        buf.resize(need);
+    return Mat(rows, cols, type, alignPtr(&buf[0], 64));
+}
+
+// Output rows [a, b) of one level, in blocks of `block` rows: blur of the stripe, then per block
+// Sobel, strongest channel, phase, one-hot bins and the 3x3 vote.
+void gradientStripe(const Mat& src, const Mat& mask, int ithr, int block, int a, int b, Mat& dst)
+{
+    const int rows = src.rows, cols = src.cols;
+    // rows smoothed for the Sobel of rows [a - 1, b + 1), rows blurred from
+    const int sa = std::max(a - 2, 0), sb = std::min(b + 2, rows);
+    const int ga = std::max(sa - 3, 0), gb = std::min(sb + 3, rows);
+    Mat blurred_buf = scratch(0, gb - ga, cols + 2, CV_8UC3);
+    Mat blurred = blurred_buf.colRange(1, cols + 1);
+    GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(7, 7), 0, 0, BORDER_REPLICATE);
+    CV_Assert(blurred.data == blurred_buf.data + 3); // written in place, not reallocated
+    for (int r = sa; r < sb; ++r)
+    {
+        uchar* p = blurred_buf.ptr<uchar>(r - ga);
+        p[0] = p[3];
+        p[1] = p[4];
+        p[2] = p[5];
+        uchar* q = p + 3 * (cols + 1);
+        q[0] = q[-3];
+        q[1] = q[-2];
+        q[2] = q[-1];
+    }
+
+    const int nmax = std::min(block, b - a) + 2;
+    Mat fx = scratch(1, nmax, cols, CV_32F), fy = scratch(2, nmax, cols, CV_32F);
+    Mat angle = scratch(3, nmax, cols, CV_32F);
+    Mat strong = scratch(4, nmax, cols, CV_8U), onehot = scratch(5, nmax, cols, CV_8U);
+    Mat dxy = scratch(6, 2, 3 * cols, CV_16S);
+    short* dxbuf = dxy.ptr<short>(0);
+    short* dybuf = dxy.ptr<short>(1);
+    for (int ba = a; ba < b; ba += block)
+    {
+        const int bb = std::min(ba + block, b);
+        // rows whose one-hot bins the vote of rows [ba, bb) reads
+        const int la = std::max(ba - 1, 0), lb = std::min(bb + 1, rows);
+        const int nl = lb - la;
+        for (int r = la; r < lb; ++r)
+        {
+            const uchar* up = blurred_buf.ptr<uchar>(std::max(r - 1, 0) - ga) + 3;
+            const uchar* mid = blurred_buf.ptr<uchar>(r - ga) + 3;
+            const uchar* dn = blurred_buf.ptr<uchar>(std::min(r + 1, rows - 1) - ga) + 3;
+            sobelRow3(up, mid, dn, 3 * cols, dxbuf, dybuf);
+            strongestChannel(dxbuf, dybuf, cols, ithr, fx.ptr<float>(r - la),
+                             fy.ptr<float>(r - la), strong.ptr<uchar>(r - la));
+        }
+        // cv::phase of one continuous array: on at least 32 values (see gradient level) the
+        // same code runs on every pixel as on the whole image
+        hal::fastAtan32f(fy.ptr<float>(), fx.ptr<float>(), angle.ptr<float>(), nl * cols, true);
+        for (int r = la; r < lb; ++r)
+        {
+            uchar* oh = onehot.ptr<uchar>(r - la);
+            if (r == 0 || r == rows - 1)
+                memset(oh, 1, cols);
+            else
+                orientationRow(angle.ptr<float>(r - la), cols, oh);
+        }
+        for (int r = ba; r < bb; ++r)
+        {
+            uchar* d = dst.ptr<uchar>(r);
+            if (r == 0 || r == rows - 1)
+            {
+                memset(d, 0, cols);
+                continue;
+            }
+            majorityRow(onehot.ptr<uchar>(r - 1 - la), onehot.ptr<uchar>(r - la),
+                        onehot.ptr<uchar>(r + 1 - la), strong.ptr<uchar>(r - la),
+                        mask.empty() ? 0 : mask.ptr<uchar>(r), cols, d);
+        }
+    }
+}
+
 void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold, Mat& dst)
 {
     CV_Assert(src.type() == CV_8UC3);
@@ -322,67 +408,13 @@ void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold
         ithr = INT_MAX;
     else
         ithr = (int)std::floor((double)thr);
-
-    const int nstripes = stripesFor(rows, cols, 24);
+    // cv::phase runs its scalar code on arrays shorter than 2 SIMD vectors (16 values with
+    // AVX2, 32 with AVX-512) and SIMD code otherwise: blocks of whole rows of at least 32 pixels
+    // keep every pixel on the path it takes in the whole image
+    const int block = cols >= 32 ? 32 : rows;
+    const int nstripes = cols >= 32 ? stripesFor(rows, cols, 32) : 1;
     parallel_for_(Range(0, rows), [&](const Range& range) {
-        const int a = range.start, b = range.end;
-        // rows whose one-hot label is needed, rows smoothed for their Sobel, rows blurred from
-        const int la = std::max(a - 1, 0), lb = std::min(b + 1, rows);
-        const int sa = std::max(la - 1, 0), sb = std::min(lb + 1, rows);
-        const int ga = std::max(sa - 3, 0), gb = std::min(sb + 3, rows);
-        const int nl = lb - la;
-
-        Mat blurred_buf(gb - ga, cols + 2, CV_8UC3);
-        Mat blurred = blurred_buf.colRange(1, cols + 1);
-        GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(7, 7), 0, 0, BORDER_REPLICATE);
-        CV_Assert(blurred.data == blurred_buf.data + 3);
-        for (int r = sa; r < sb; ++r)
-        {
-            uchar* p = blurred_buf.ptr<uchar>(r - ga);
-            p[0] = p[3];
-            p[1] = p[4];
-            p[2] = p[5];
-            uchar* q = p + 3 * (cols + 1);
-            q[0] = q[-3];
-            q[1] = q[-2];
-            q[2] = q[-1];
-        }
-
-        Mat fx(nl, cols, CV_32F), fy(nl, cols, CV_32F), angle(nl, cols, CV_32F);
-        Mat strong(nl, cols, CV_8U), onehot(nl, cols, CV_8U);
-        std::vector<short> dxbuf(3 * cols), dybuf(3 * cols);
-        for (int r = la; r < lb; ++r)
-        {
-            const uchar* up = blurred_buf.ptr<uchar>(std::max(r - 1, 0) - ga) + 3;
-            const uchar* mid = blurred_buf.ptr<uchar>(r - ga) + 3;
-            const uchar* dn = blurred_buf.ptr<uchar>(std::min(r + 1, rows - 1) - ga) + 3;
-            sobelRow3(up, mid, dn, 3 * cols, &dxbuf[0], &dybuf[0]);
-            strongestChannel(&dxbuf[0], &dybuf[0], cols, ithr, fx.ptr<float>(r - la),
-                             fy.ptr<float>(r - la), strong.ptr<uchar>(r - la));
-        }
-        // cv::phase on continuous rows of at least 32 values (stripesFor) runs the same code
-        // on every pixel as on the whole image
-        hal::fastAtan32f(fy.ptr<float>(), fx.ptr<float>(), angle.ptr<float>(), nl * cols, true);
-        for (int r = la; r < lb; ++r)
-        {
-            uchar* oh = onehot.ptr<uchar>(r - la);
-            if (r == 0 || r == rows - 1)
-                memset(oh, 1, cols);
-            else
-                orientationRow(angle.ptr<float>(r - la), cols, oh);
-        }
-        for (int r = a; r < b; ++r)
-        {
-            uchar* d = dst.ptr<uchar>(r);
-            if (r == 0 || r == rows - 1)
-            {
-                memset(d, 0, cols);
-                continue;
-            }
-            majorityRow(onehot.ptr<uchar>(r - 1 - la), onehot.ptr<uchar>(r - la),
-                        onehot.ptr<uchar>(r + 1 - la), strong.ptr<uchar>(r - la),
-                        mask.empty() ? 0 : mask.ptr<uchar>(r), cols, d);
-        }
+        gradientStripe(src, mask, ithr, block, range.start, range.end, dst);
     }, nstripes);
 }
 
@@ -441,26 +473,35 @@ void quantizeHueLevel(const Mat& src, const Mat& mask, const ModalityInfo& info,
         return;
     }
     const int k = info.blur_size > 1 ? info.blur_size : 0;
-    const int nstripes = stripesFor(rows, cols, 16);
+    const int block = 32;
+    const int nstripes = stripesFor(rows, cols, 32);
     parallel_for_(Range(0, rows), [&](const Range& range) {
-        const int a = range.start, b = range.end;
-        Mat smoothed;
-        if (k > 0)
+        for (int a = range.start; a < range.end; a += block)
         {
-            const int ga = std::max(a - k / 2, 0), gb = std::min(b + k / 2, rows);
-            Mat blurred;
-            GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(k, k), 0, 0, BORDER_REPLICATE);
-            smoothed = blurred.rowRange(a - ga, b - ga);
+            const int b = std::min(a + block, range.end);
+            Mat smoothed;
+            if (k > 0)
+            {
+                const int ga = std::max(a - k / 2, 0), gb = std::min(b + k / 2, rows);
+                Mat blurred = scratch(0, gb - ga, cols, CV_8UC3);
+                const uchar* data = blurred.data;
+                GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(k, k), 0, 0,
+                             BORDER_REPLICATE);
+                CV_Assert(blurred.data == data);
+                smoothed = blurred.rowRange(a - ga, b - ga);
+            }
+            else
+            {
+                smoothed = src.rowRange(a, b);
+            }
+            Mat hsv = scratch(1, b - a, cols, CV_8UC3);
+            const uchar* data = hsv.data;
+            cvtColor(smoothed, hsv, COLOR_BGR2HSV);
+            CV_Assert(hsv.data == data);
+            for (int r = a; r < b; ++r)
+                hueRow(hsv.ptr<uchar>(r - a), mask.empty() ? 0 : mask.ptr<uchar>(r), cols, smin,
+                       vmin, dst.ptr<uchar>(r));
         }
-        else
-        {
-            smoothed = src.rowRange(a, b);
-        }
-        Mat hsv;
-        cvtColor(smoothed, hsv, COLOR_BGR2HSV);
-        for (int r = a; r < b; ++r)
-            hueRow(hsv.ptr<uchar>(r - a), mask.empty() ? 0 : mask.ptr<uchar>(r), cols, smin, vmin,
-                   dst.ptr<uchar>(r));
     }, nstripes);
 }
 
