@@ -27,6 +27,8 @@
 #include "opencv2/core/hal/hal.hpp"
 #include "opencv2/core/hal/intrin.hpp"
 
+#include <atomic>
+#include <mutex>
 #include <typeinfo>
 
 namespace cv {
@@ -34,6 +36,10 @@ namespace forestmod {
 namespace detail {
 
 using linemod::Modality;
+
+namespace {
+bool depthNormalReady(const ModalityInfo& info);
+} // namespace
 
 ModalityInfo classifyModality(const Ptr<Modality>& modality)
 {
@@ -53,6 +59,7 @@ ModalityInfo classifyModality(const Ptr<Modality>& modality)
         info.kind = MODALITY_DEPTH_NORMAL;
         info.distance_threshold = d.distance_threshold;
         info.difference_threshold = d.difference_threshold;
+        depthNormalReady(info); // reads cv::linemod's normal labels now, not at the first frame
     }
     else if (typeid(m) == typeid(ColorHue))
     {
@@ -65,10 +72,6 @@ ModalityInfo classifyModality(const Ptr<Modality>& modality)
     return info;
 }
 
-bool hasFastPath(const ModalityInfo& info)
-{
-    return info.kind == MODALITY_COLOR_GRADIENT || info.kind == MODALITY_COLOR_HUE;
-}
 
 namespace {
 
@@ -505,6 +508,443 @@ void quantizeHueLevel(const Mat& src, const Mat& mask, const ModalityInfo& info,
     }, nstripes);
 }
 
+// ------------------------------------------------------------------------------------------
+// DepthNormal (LINEMOD 2.6): per pixel at least 5 pixels inside the image border, a plane fit to
+// the 8 depths at +-5 pixels whose difference to the centre is below difference_threshold
+// (integer normal equations), the normal (1150 ddx, 1150 ddy, -det d) normalised in float and
+// mapped to a cell (i1, i2, i3) of a G x G x G grid, the cell's label from a table; pixels at
+// or beyond distance_threshold and degenerate normals get 0; then a 5x5 median. The next levels
+// are INTER_NEAREST reductions of the labels.
+//
+// The cell -> label table is data of cv::linemod, not part of its API: it is read out of the
+// installed cv::linemod::DepthNormal once, by quantizing planes of known normals
+// (normalLabelTable()). A pixel that falls into a cell the read-out did not reach makes the
+// fast path give up for that frame (the caller then uses the virtual calls), so the output is
+// exact either way.
+
+enum { NORMAL_G = 20, NORMAL_CELLS = NORMAL_G + 1, NORMAL_R = 5 };
+// beyond it 1150 * ddx can leave 32 bits in the vectorised path
+enum { NORMAL_MAX_DIFFERENCE = 240 };
+
+// The cell of one normal, as cv::linemod computes it (float arithmetic, truncation).
+static inline bool normalCell(int64 ddx, int64 ddy, int64 det, int64 d, int& i1, int& i2, int& i3)
+{
+    float nx = static_cast<float>(1150 * ddx);
+    float ny = static_cast<float>(1150 * ddy);
+    float nz = static_cast<float>(-det * d);
+    const float norm = std::sqrt(nx * nx + ny * ny + nz * nz);
+    if (!(norm > 0))
+        return false;
+    const float inv = 1.0f / norm;
+    nx *= inv;
+    ny *= inv;
+    nz *= inv;
+    const int half = NORMAL_G / 2;
+    i1 = static_cast<int>(nx * half + half);
+    i2 = static_cast<int>(ny * half + half);
+    i3 = static_cast<int>(nz * NORMAL_G + NORMAL_G);
+    return true;
+}
+
+// Plane fit to the 8 neighbours (depths v[k] at (i, j) = (-R,-R) (0,-R) (R,-R) (-R,0) (R,0)
+// (-R,R) (0,R) (R,R)) of a pixel of depth d: false when the pixel has no normal.
+static inline bool neighboursCell(int64 d, const int64* v, int distance_threshold,
+                                  int difference_threshold, int& i1, int& i2, int& i3)
+{
+    if (d >= distance_threshold)
+        return false;
+    int64 A0 = 0, A1 = 0, A3 = 0, b0 = 0, b1 = 0;
+    for (int k = 0; k < 8; ++k)
+    {
+        const int kk = k < 4 ? k : k + 1; // skip the centre of the 3x3 layout
+        const int64 i = (kk % 3 - 1) * NORMAL_R, j = (kk / 3 - 1) * NORMAL_R;
+        const int64 delta = v[k] - d;
+        if (!((delta < 0 ? -delta : delta) < difference_threshold))
+            continue;
+        A0 += i * i;
+        A1 += i * j;
+        A3 += j * j;
+        b0 += i * delta;
+        b1 += j * delta;
+    }
+    const int64 det = A0 * A3 - A1 * A1;
+    const int64 ddx = A3 * b0 - A1 * b1;
+    const int64 ddy = -A1 * b0 + A0 * b1;
+    return normalCell(ddx, ddy, det, d, i1, i2, i3);
+}
+
+// The same for a pixel of a CV_16U image (p points to it, step in elements).
+static inline bool pixelNormalCell(const ushort* p, size_t step, int distance_threshold,
+                                   int difference_threshold, int& i1, int& i2, int& i3)
+{
+    const ptrdiff_t s = (ptrdiff_t)step * NORMAL_R, R = NORMAL_R;
+    const int64 v[8] = { p[-s - R], p[-s], p[-s + R], p[-R], p[R], p[s - R], p[s], p[s + R] };
+    return neighboursCell(p[0], v, distance_threshold, difference_threshold, i1, i2, i3);
+}
+
+static inline int cellIndex(int i1, int i2, int i3)
+{
+    return (i3 * NORMAL_CELLS + i2) * NORMAL_CELLS + i1;
+}
+
+// A neighbourhood: the centre's depth and its 8 neighbours' (layout of neighboursCell()).
+struct NormalConfig
+{
+    int64 d;
+    int64 v[8];
+};
+
+enum { NORMAL_TABLE_SIZE = NORMAL_CELLS * NORMAL_CELLS * NORMAL_CELLS };
+// the read-out's thresholds: every depth counts as a pixel, every difference as a neighbour
+static const int PROBE_DISTANCE = 65536, PROBE_DIFFERENCE = 20000;
+
+class NormalLabelTable
+{
+public:
+    NormalLabelTable() : usable_(false)
+    {
+        for (int i = 0; i < NORMAL_TABLE_SIZE; ++i)
+            known_[i] = 0;
+        memset(label_, 0, sizeof(label_));
+    }
+
+    bool usable() const { return usable_; }
+
+    /** Label of a cell index; false when it is not known yet. */
+    bool lookup(int cell, uchar& label) const
+    {
+        if ((unsigned)cell >= (unsigned)NORMAL_TABLE_SIZE
+            || !known_[cell].load(std::memory_order_acquire))
+            return false;
+        label = label_[cell];
+        return true;
+    }
+
+    /** Reads the labels of the cells of these neighbourhoods (computed with the probe's
+    thresholds) out of cv::linemod::DepthNormal. False when its output contradicts the layout
+    this code assumes (then the fast path stays off). */
+    bool learn(const std::vector<NormalConfig>& configs);
+
+    void setUsable(bool u) { usable_ = u; }
+
+private:
+    bool usable_;
+    std::atomic<uchar> known_[NORMAL_TABLE_SIZE];
+    uchar label_[NORMAL_TABLE_SIZE];
+    std::mutex mutex_;
+};
+
+// Neighbourhoods quantized by cv::linemod::DepthNormal, one per 16 x 16 tile. In a tile, every
+// pixel within 7 of its centre is either in the 5x5 window around the centre (depth d) or the
+// neighbour at (i, j) of window pixels in one role only (depth v(i, j)): the 25 window pixels see
+// the same neighbourhood, have the same normal, and the 5x5 median at the centre keeps their
+// label. Cells of a coordinate 20 are beyond cv::linemod's table: it reads the bytes after it,
+// which are whatever they are but the same in every call; they are read out like the others.
+bool NormalLabelTable::learn(const std::vector<NormalConfig>& configs_in)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<NormalConfig> configs;
+    std::vector<int> cells;
+    std::vector<uchar> queued(NORMAL_TABLE_SIZE, 0);
+    for (size_t k = 0; k < configs_in.size(); ++k)
+    {
+        int i1, i2, i3;
+        if (!neighboursCell(configs_in[k].d, configs_in[k].v, PROBE_DISTANCE, PROBE_DIFFERENCE,
+                            i1, i2, i3))
+            continue;
+        const int cell = cellIndex(i1, i2, i3);
+        if (i1 < 0 || i1 >= NORMAL_CELLS || i2 < 0 || i2 >= NORMAL_CELLS || i3 < 0
+            || i3 >= NORMAL_CELLS || known_[cell].load(std::memory_order_relaxed) || queued[cell])
+            continue;
+        queued[cell] = 1;
+        configs.push_back(configs_in[k]);
+        cells.push_back(cell);
+    }
+    if (configs.empty())
+        return true;
+    const int TS = 16;
+    const int NT = (int)std::ceil(std::sqrt((double)configs.size()));
+    // one empty tile row and column at the end: LINEMOD leaves the last 6 rows / columns out
+    Mat depth((NT + 1) * TS, (NT + 1) * TS, CV_16U, Scalar(0));
+    for (size_t k = 0; k < configs.size(); ++k)
+    {
+        const NormalConfig& c = configs[k];
+        const int cy = (int)(k / NT) * TS + TS / 2, cx = (int)(k % NT) * TS + TS / 2;
+        for (int oy = -7; oy <= 7; ++oy)
+            for (int ox = -7; ox <= 7; ++ox)
+            {
+                const int i = ox >= 3 ? 1 : ox <= -3 ? -1 : 0;
+                const int j = oy >= 3 ? 1 : oy <= -3 ? -1 : 0;
+                int64 v = c.d;
+                if (i != 0 || j != 0)
+                {
+                    const int kk = (j + 1) * 3 + (i + 1);
+                    v = c.v[kk < 4 ? kk : kk - 1];
+                }
+                depth.at<ushort>(cy + oy, cx + ox) = (ushort)v;
+            }
+    }
+    Ptr<linemod::DepthNormal> probe
+        = makePtr<linemod::DepthNormal>(PROBE_DISTANCE, PROBE_DIFFERENCE, 63, 2);
+    Mat labels;
+    probe->process(depth, Mat())->quantize(labels);
+    for (size_t k = 0; k < configs.size(); ++k)
+    {
+        const int cy = (int)(k / NT) * TS + TS / 2, cx = (int)(k % NT) * TS + TS / 2;
+        // the tile really holds the configuration (checks the layout above)
+        int j1, j2, j3;
+        if (!pixelNormalCell(depth.ptr<ushort>(cy) + cx, depth.step1(), PROBE_DISTANCE,
+                             PROBE_DIFFERENCE, j1, j2, j3)
+            || cellIndex(j1, j2, j3) != cells[k])
+            return false;
+        label_[cells[k]] = labels.at<uchar>(cy, cx);
+        known_[cells[k]].store(1, std::memory_order_release);
+    }
+    return true;
+}
+
+// The same neighbourhood with the probe's thresholds: a neighbour the pixel's own threshold
+// leaves out is moved far away.
+static NormalConfig probeConfig(const ushort* p, size_t step, int difference_threshold)
+{
+    const ptrdiff_t s = (ptrdiff_t)step * NORMAL_R, R = NORMAL_R;
+    const ptrdiff_t offs[8] = { -s - R, -s, -s + R, -R, R, s - R, s, s + R };
+    NormalConfig c;
+    c.d = p[0];
+    for (int k = 0; k < 8; ++k)
+    {
+        const int64 v = p[offs[k]], delta = v - c.d;
+        if ((delta < 0 ? -delta : delta) < difference_threshold)
+            c.v[k] = v;
+        else
+            c.v[k] = c.d + PROBE_DIFFERENCE <= 65535 ? c.d + PROBE_DIFFERENCE
+                                                     : c.d - PROBE_DIFFERENCE;
+    }
+    return c;
+}
+
+// Initial read-out: random neighbourhoods (planes of random normals; random depths around
+// random centres, neighbours left out, holes) give the common cells; the rare ones are read out
+// when a frame meets them (depthNormalLevel0).
+static void readNormalLabels(NormalLabelTable& t)
+{
+    std::vector<NormalConfig> configs;
+    std::vector<uchar> seen(NORMAL_TABLE_SIZE, 0);
+    RNG rng(0x5eed);
+    for (int n = 0; n < 200000; ++n)
+    {
+        NormalConfig c;
+        const int kind = n % 3;
+        if (kind == 0)
+        {
+            const double phi = rng.uniform(0., 2 * CV_PI);
+            const double rho = std::sqrt(rng.uniform(0., 1.));
+            const double nx = rho * std::cos(phi), ny = rho * std::sin(phi);
+            const double nz = std::sqrt(std::max(1e-12, 1 - nx * nx - ny * ny));
+            c.d = rng.uniform(1, 60000);
+            const double a = nx / nz * (double)c.d / 1150., b = ny / nz * (double)c.d / 1150.;
+            if (std::abs(a) > 3000 || std::abs(b) > 3000)
+                continue;
+            const int64 ia = cvRound(a), ib = cvRound(b);
+            bool in_range = true;
+            for (int k = 0; k < 8; ++k)
+            {
+                const int kk = k < 4 ? k : k + 1;
+                c.v[k] = c.d + ia * (kk % 3 - 1) * NORMAL_R + ib * (kk / 3 - 1) * NORMAL_R;
+                in_range = in_range && c.v[k] >= 0 && c.v[k] <= 65535;
+            }
+            if (!in_range)
+                continue;
+        }
+        else
+        {
+            // like a depth camera: centre below 4 m (or a hole), small differences, some
+            // neighbours left out
+            c.d = kind == 1 ? rng.uniform(1, 4000) : rng.uniform(0, 100);
+            const int spread = 1 << rng.uniform(0, 9);
+            const int out_of = rng.uniform(2, 9);
+            for (int k = 0; k < 8; ++k)
+            {
+                int64 v = c.d + rng.uniform(-spread, spread + 1);
+                if (rng.uniform(0, out_of) == 0)
+                    v = c.d + PROBE_DIFFERENCE;
+                c.v[k] = std::min<int64>(65535, std::max<int64>(0, v));
+            }
+        }
+        int i1, i2, i3;
+        if (!neighboursCell(c.d, c.v, PROBE_DISTANCE, PROBE_DIFFERENCE, i1, i2, i3))
+            continue;
+        if (i1 < 0 || i1 >= NORMAL_CELLS || i2 < 0 || i2 >= NORMAL_CELLS || i3 < 0
+            || i3 >= NORMAL_CELLS || seen[cellIndex(i1, i2, i3)])
+            continue;
+        seen[cellIndex(i1, i2, i3)] = 1;
+        configs.push_back(c);
+    }
+    t.setUsable(t.learn(configs));
+}
+
+static NormalLabelTable& normalLabelTable()
+{
+    static NormalLabelTable table;
+    static std::once_flag once;
+    std::call_once(once, [] { readNormalLabels(table); });
+    return table;
+}
+
+bool depthNormalReady(const ModalityInfo& info)
+{
+    return info.kind == MODALITY_DEPTH_NORMAL && info.difference_threshold <= NORMAL_MAX_DIFFERENCE
+           && normalLabelTable().usable();
+}
+
+// Labels (before the median) of rows [a, b) of a CV_16U depth image; the pixels whose cell has
+// no known label yet are appended to `unknown` (label 0 for now).
+static void normalRows(const Mat& depth, const ModalityInfo& info, const NormalLabelTable& t,
+                       int a, int b, Mat& dst, std::vector<Point>& unknown)
+{
+    const int rows = depth.rows, cols = depth.cols, R = NORMAL_R;
+    const int x0 = R, x1 = cols - R - 1; // LINEMOD's loop bounds
+    const size_t step = depth.step1();
+    const int dist = info.distance_threshold, diff = info.difference_threshold;
+    for (int y = a; y < b; ++y)
+    {
+        uchar* out = dst.ptr<uchar>(y);
+        if (y < R || y >= rows - R - 1 || x1 <= x0)
+        {
+            memset(out, 0, cols);
+            continue;
+        }
+        memset(out, 0, x0);
+        memset(out + x1, 0, cols - x1);
+        const ushort* row = depth.ptr<ushort>(y);
+        int x = x0;
+#if CV_SIMD128
+        const v_int32x4 vdist = v_setall_s32(dist), vdiff = v_setall_s32(diff);
+        const v_int32x4 vndiff = v_setall_s32(-diff);
+        const v_int32x4 z = v_setzero_s32();
+        const v_float32x4 half = v_setall_f32((float)(NORMAL_G / 2));
+        const v_float32x4 g = v_setall_f32((float)NORMAL_G), fone = v_setall_f32(1.f);
+        const v_float32x4 fz = v_setzero_f32();
+        const v_int32x4 cells = v_setall_s32(NORMAL_CELLS);
+        const ptrdiff_t up = -(ptrdiff_t)(R * step), dn = (ptrdiff_t)(R * step);
+        const ptrdiff_t offs[8] = { up - R, up, up + R, -R, R, dn - R, dn, dn + R };
+        for (; x <= x1 - 4; x += 4)
+        {
+            const ushort* p = row + x;
+            const v_int32x4 d = v_reinterpret_as_s32(v_load_expand(p));
+            // the 8 neighbours: f (0 / -1) where the depth difference is below the threshold
+            v_int32x4 f[8], fd[8];
+            for (int k = 0; k < 8; ++k)
+            {
+                const v_int32x4 delta = v_reinterpret_as_s32(v_load_expand(p + offs[k])) - d;
+                f[k] = (delta < vdiff) & (delta > vndiff);
+                fd[k] = f[k] & delta;
+            }
+            // neighbours: 0 (-R,-R) 1 (0,-R) 2 (R,-R) 3 (-R,0) 4 (R,0) 5 (-R,R) 6 (0,R) 7 (R,R)
+            const v_int32x4 nl = z - (f[0] + f[3] + f[5]), nr = z - (f[2] + f[4] + f[7]);
+            const v_int32x4 nt = z - (f[0] + f[1] + f[2]), nb = z - (f[5] + f[6] + f[7]);
+            const v_int32x4 A0 = v_setall_s32(R * R) * (nl + nr);
+            const v_int32x4 A3 = v_setall_s32(R * R) * (nt + nb);
+            const v_int32x4 A1 = v_setall_s32(R * R) * ((f[2] + f[5]) - (f[0] + f[7]));
+            const v_int32x4 b0
+                = v_setall_s32(R) * ((fd[2] + fd[4] + fd[7]) - (fd[0] + fd[3] + fd[5]));
+            const v_int32x4 b1
+                = v_setall_s32(R) * ((fd[5] + fd[6] + fd[7]) - (fd[0] + fd[1] + fd[2]));
+            const v_int32x4 det = A0 * A3 - A1 * A1;
+            const v_int32x4 ddx = A3 * b0 - A1 * b1;
+            const v_int32x4 ddy = A0 * b1 - A1 * b0;
+            v_float32x4 nx = v_cvt_f32(v_setall_s32(1150) * ddx);
+            v_float32x4 ny = v_cvt_f32(v_setall_s32(1150) * ddy);
+            v_float32x4 nzv = v_cvt_f32(z - det * d);
+            const v_float32x4 norm = v_sqrt(nx * nx + ny * ny + nzv * nzv);
+            const v_float32x4 ok = (norm > fz) & v_reinterpret_as_f32(d < vdist);
+            const v_float32x4 inv = fone / v_select(ok, norm, fone);
+            nx = nx * inv;
+            ny = ny * inv;
+            nzv = nzv * inv;
+            const v_int32x4 i1 = v_trunc(nx * half + half);
+            const v_int32x4 i2 = v_trunc(ny * half + half);
+            const v_int32x4 i3 = v_trunc(nzv * g + g);
+            v_int32x4 idx = (i3 * cells + i2) * cells + i1;
+            idx = v_select(v_reinterpret_as_s32(ok), idx, v_setall_s32(-1));
+            int ids[4];
+            v_store(ids, idx);
+            for (int k = 0; k < 4; ++k)
+            {
+                uchar v = 0;
+                if (ids[k] >= 0 && !t.lookup(ids[k], v))
+                    unknown.push_back(Point(x + k, y));
+                out[x + k] = v;
+            }
+        }
+#endif
+        for (; x < x1; ++x)
+        {
+            int i1, i2, i3;
+            uchar v = 0;
+            if (pixelNormalCell(row + x, step, dist, diff, i1, i2, i3))
+            {
+                const bool in_grid = i1 >= 0 && i2 >= 0 && i3 >= 0 && i1 < NORMAL_CELLS
+                                     && i2 < NORMAL_CELLS && i3 < NORMAL_CELLS;
+                if (!in_grid || !t.lookup(cellIndex(i1, i2, i3), v))
+                    unknown.push_back(Point(x, y));
+            }
+            out[x] = v;
+        }
+    }
+}
+
+// Level 0 of DepthNormal without its mask; false when cv::linemod contradicted the read-out.
+static bool depthNormalLevel0(const Mat& depth, const ModalityInfo& info, Mat& labels)
+{
+    NormalLabelTable& t = normalLabelTable();
+    const int rows = depth.rows, cols = depth.cols;
+    Mat raw(rows, cols, CV_8U);
+    std::vector<Point> unknown;
+    std::mutex unknown_mutex;
+    const int nstripes = stripesFor(rows, cols, 32);
+    parallel_for_(Range(0, rows), [&](const Range& r) {
+        std::vector<Point> mine;
+        normalRows(depth, info, t, r.start, r.end, raw, mine);
+        if (!mine.empty())
+        {
+            std::lock_guard<std::mutex> lock(unknown_mutex);
+            unknown.insert(unknown.end(), mine.begin(), mine.end());
+        }
+    }, nstripes);
+    if (!unknown.empty())
+    {
+        // cells the read-out has not met yet: read them out now, then label those pixels
+        std::vector<NormalConfig> configs;
+        configs.reserve(unknown.size());
+        for (size_t k = 0; k < unknown.size(); ++k)
+            configs.push_back(probeConfig(depth.ptr<ushort>(unknown[k].y) + unknown[k].x,
+                                          depth.step1(), info.difference_threshold));
+        if (!t.learn(configs))
+            return false;
+        for (size_t k = 0; k < unknown.size(); ++k)
+        {
+            int i1, i2, i3;
+            uchar v = 0;
+            if (!neighboursCell(configs[k].d, configs[k].v, PROBE_DISTANCE, PROBE_DIFFERENCE, i1,
+                                i2, i3)
+                || !t.lookup(cellIndex(i1, i2, i3), v))
+                return false;
+            raw.at<uchar>(unknown[k]) = v;
+        }
+    }
+    // LINEMOD's 5x5 median, in stripes of whole rows (each an image of its own: the same code
+    // on every pixel as on the whole image)
+    labels.create(rows, cols, CV_8U);
+    parallel_for_(Range(0, rows), [&](const Range& r) {
+        const int ga = std::max(r.start - 2, 0), gb = std::min(r.end + 2, rows);
+        Mat part;
+        medianBlur(rowsAsImage(raw, ga, gb), part, 5);
+        part.rowRange(r.start - ga, r.end - ga).copyTo(labels.rowRange(r.start, r.end));
+    }, nstripes);
+    return true;
+}
+
 void checkInputs(const ModalityInfo& info, const Mat& src, const Mat& mask)
 {
     if (src.empty())
@@ -552,7 +992,51 @@ bool sameData(const Mat& a, const Mat& b)
     return a.data == b.data && a.size() == b.size() && a.type() == b.type() && a.step == b.step;
 }
 
+// What QuantizedPyramid::quantize gives: the labels where the mask is set (all without mask).
+void applyMask(const Mat& labels, const Mat& mask, Mat& dst)
+{
+    if (mask.empty())
+    {
+        labels.copyTo(dst);
+        return;
+    }
+    dst = Mat::zeros(labels.size(), CV_8U);
+    labels.copyTo(dst, mask);
+}
+
+// DepthNormal: level 0 from the depth, the others INTER_NEAREST of the labels (not of the depth).
+bool depthNormalLevels(const ModalityInfo& info, const Mat& depth, const Mat& mask, int levels,
+                       std::vector<Mat>& quantized)
+{
+    if (depth.type() != CV_16UC1)
+        return false; // what cv::linemod does with other types is its own business
+    // cv::linemod reads the depth as a continuous array of rows x cols from its first pixel
+    // (rows of a ROI of a wider image are then not the ROI's rows): the same here
+    const Mat flat(depth.rows, depth.cols, CV_16U, const_cast<uchar*>(depth.data));
+    Mat labels;
+    if (!depthNormalLevel0(flat, info, labels))
+        return false;
+    quantized.resize(levels);
+    Mat m = mask;
+    for (int l = 0; l < levels; ++l)
+    {
+        if (l > 0)
+        {
+            labels = nextMask(labels);
+            m = nextMask(m);
+        }
+        applyMask(labels, m, quantized[l]);
+    }
+    return true;
+}
+
 } // namespace
+
+bool hasFastPath(const ModalityInfo& info)
+{
+    return info.kind == MODALITY_COLOR_GRADIENT || info.kind == MODALITY_COLOR_HUE
+           || depthNormalReady(info);
+}
 
 bool fastQuantize(const ModalityInfo& info, const Mat& src, const Mat& mask, int levels,
                   std::vector<Mat>& quantized)
@@ -561,6 +1045,8 @@ bool fastQuantize(const ModalityInfo& info, const Mat& src, const Mat& mask, int
         return false;
     CV_Assert(levels >= 1);
     checkInputs(info, src, mask);
+    if (info.kind == MODALITY_DEPTH_NORMAL)
+        return depthNormalLevels(info, src, mask, levels, quantized);
     quantized.resize(levels);
     Mat img = src, m = mask;
     for (int l = 0; l < levels; ++l)
@@ -604,7 +1090,17 @@ void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
     std::vector<std::vector<Mat> > imgs, msks;
     for (int i = 0; i < M; ++i)
     {
-        if (!hasFastPath(infos[i]))
+        if (infos[i].kind == MODALITY_DEPTH_NORMAL && hasFastPath(infos[i]))
+        {
+            std::vector<Mat> q;
+            if (fastQuantize(infos[i], sources[i], masks.empty() ? Mat() : masks[i], levels, q))
+            {
+                for (int l = 0; l < levels; ++l)
+                    quantized[l][i] = q[l];
+                continue;
+            }
+        }
+        if (!hasFastPath(infos[i]) || infos[i].kind == MODALITY_DEPTH_NORMAL)
         {
             Ptr<linemod::QuantizedPyramid> qp
                 = modalities[i]->process(sources[i], masks.empty() ? Mat() : masks[i]);
@@ -645,7 +1141,7 @@ void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
                 msks[j].push_back(nextMask(msks[j][l - 1]));
         }
         for (int i = 0; i < M; ++i)
-            if (hasFastPath(infos[i]))
+            if (img_of[i] >= 0)
                 quantizeLevel(infos[i], imgs[img_of[i]][l], msks[mask_of[i]][l],
                               quantized[l][i]);
     }

@@ -282,6 +282,127 @@ TEST(Forestmod_QuantizeFast, all_modalities_shared_pyramids)
     }
 }
 
+static std::vector<Ptr<linemod::Modality> > depthModalities()
+{
+    std::vector<Ptr<linemod::Modality> > ms;
+    ms.push_back(linemod::Modality::create("DepthNormal"));
+    ms.push_back(makePtr<linemod::DepthNormal>(1200, 20, 63, 2));
+    ms.push_back(makePtr<linemod::DepthNormal>(5000, 240, 63, 2));
+    return ms;
+}
+
+// A depth image (mm) with planes, spheres, steps, noise and holes.
+static Mat randomDepth(Size size, uint64 seed)
+{
+    RNG rng(seed);
+    Mat depth(size, CV_32F);
+    const double a = rng.uniform(-3., 3.), b = rng.uniform(-3., 3.);
+    for (int r = 0; r < size.height; ++r)
+        for (int c = 0; c < size.width; ++c)
+            depth.at<float>(r, c) = (float)(900 + a * c + b * r);
+    for (int i = 0; i < 6; ++i)
+    {
+        const Point2d centre(rng.uniform(0, size.width), rng.uniform(0, size.height));
+        const double radius = rng.uniform(5., std::max(6., size.width / 3.));
+        const double z = rng.uniform(500., 1500.);
+        for (int r = 0; r < size.height; ++r)
+            for (int c = 0; c < size.width; ++c)
+            {
+                const double dx = c - centre.x, dy = r - centre.y;
+                const double q = radius * radius - dx * dx - dy * dy;
+                if (q > 0)
+                    depth.at<float>(r, c) = std::min(depth.at<float>(r, c),
+                                                     (float)(z - 3 * std::sqrt(q)));
+            }
+    }
+    Mat noise(size, CV_32F);
+    rng.fill(noise, RNG::NORMAL, 0, 2);
+    depth += noise;
+    Mat out;
+    depth.convertTo(out, CV_16U);
+    Mat holes(size, CV_8U);
+    rng.fill(holes, RNG::UNIFORM, 0, 50);
+    out.setTo(0, holes == 0);
+    circle(out, Point(size.width / 2, size.height / 3), std::max(2, size.width / 12), Scalar(0),
+           FILLED);
+    return out;
+}
+
+TEST(Forestmod_QuantizeFast, depth_normals_random_odd_sizes)
+{
+    const Size sizes[] = { Size(161, 97), Size(333, 211), Size(40, 23), Size(17, 9), Size(11, 12),
+                           Size(3, 3), Size(641, 479) };
+    const std::vector<Ptr<linemod::Modality> > ms = depthModalities();
+    for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); ++s)
+    {
+        const Mat depth = randomDepth(sizes[s], 300 + s);
+        const Mat mask = someMask(sizes[s], 400 + s);
+        const int min_labelled = sizes[s].area() > 1000 ? 50 : 0;
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            std::ostringstream what;
+            what << "random depth " << sizes[s] << " #" << i;
+            // (cv::linemod refuses to reduce an image to 0 pixels)
+            const int max_levels = std::min(sizes[s].width, sizes[s].height) >= 8 ? 4 : 2;
+            for (int levels = 1; levels <= max_levels; levels += max_levels - 1)
+            {
+                expectSameLevels(ms[i], depth, Mat(), levels, what.str(), min_labelled);
+                expectSameLevels(ms[i], depth, mask, levels, what.str() + " masked", 0);
+            }
+        }
+    }
+}
+
+TEST(Forestmod_QuantizeFast, depth_normals_real_frames)
+{
+    const std::string shared = sharedDataPath();
+    if (shared.empty() || !utils::fs::exists(shared + "/real_rgbd"))
+        throw SkipTestException("FORESTMOD_SHARED_DATA/real_rgbd is not available");
+    std::vector<String> files;
+    glob(shared + "/real_rgbd/*_depth.png", files);
+    if (files.empty())
+        throw SkipTestException("no *_depth.png in FORESTMOD_SHARED_DATA/real_rgbd");
+    const std::vector<Ptr<linemod::Modality> > ms = depthModalities();
+    for (size_t f = 0; f < files.size(); ++f)
+    {
+        const Mat depth = imread(files[f], IMREAD_UNCHANGED);
+        ASSERT_EQ(CV_16UC1, depth.type()) << files[f];
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            expectSameLevels(ms[i], depth, Mat(), 2, files[f], 1000);
+            expectSameLevels(ms[i], depth, Mat(), 5, files[f], 1000);
+            expectSameLevels(ms[i], depth, someMask(depth.size(), 9), 3, files[f] + " masked");
+        }
+        // a ROI (cv::linemod reads it as if it were continuous)
+        const Mat roi = depth(Rect(13, 7, 401, 333));
+        expectSameLevels(ms[0], roi, Mat(), 3, files[f] + " roi", 1000);
+    }
+}
+
+TEST(Forestmod_QuantizeFast, depth_normals_without_fast_path)
+{
+    using namespace cv::forestmod::detail;
+    // a difference threshold beyond what the 32-bit arithmetic holds: the virtual calls
+    Ptr<linemod::Modality> wide = makePtr<linemod::DepthNormal>(2000, 241, 63, 2);
+    EXPECT_FALSE(hasFastPath(classifyModality(wide)));
+    EXPECT_TRUE(hasFastPath(classifyModality(makePtr<linemod::DepthNormal>(2000, 240, 63, 2))));
+    std::vector<Mat> q;
+    EXPECT_FALSE(fastQuantize(wide, randomDepth(Size(64, 48), 1), Mat(), 2, q));
+    // a depth of another type is cv::linemod's business
+    Ptr<linemod::Modality> dn = linemod::Modality::create("DepthNormal");
+    Mat depth_f;
+    randomDepth(Size(64, 48), 2).convertTo(depth_f, CV_32F);
+    EXPECT_FALSE(fastQuantize(dn, depth_f, Mat(), 2, q));
+    // and quantizeAllLevels takes the virtual calls for both
+    std::vector<Ptr<linemod::Modality> > ms(1, wide);
+    std::vector<Mat> sources(1, randomDepth(Size(64, 48), 3));
+    std::vector<std::vector<Mat> > all;
+    quantizeAllLevels(ms, std::vector<ModalityInfo>(), sources, std::vector<Mat>(), 2, all);
+    const std::vector<Mat> ref = referenceLevels(wide, sources[0], Mat(), 2);
+    EXPECT_EQ(0, differences(ref[0], all[0][0]));
+    EXPECT_EQ(0, differences(ref[1], all[1][0]));
+}
+
 TEST(Forestmod_QuantizeFast, wrong_inputs_are_refused)
 {
     std::vector<Mat> q;
