@@ -98,128 +98,132 @@ Mat rowsAsImage(const Mat& src, int a, int b)
 // ------------------------------------------------------------------------------------------
 // ColorGradient
 
-// Per-channel Sobel dx, dy (BORDER_REPLICATE) of one row of an interleaved 3-channel image:
-// up, mid, dn point to the first byte of the rows above, at and below, each with one replicated
-// pixel (3 bytes) readable on both sides; n = 3 * cols.
-void sobelRow3(const uchar* up, const uchar* mid, const uchar* dn, int n, short* dx, short* dy)
+// Splits n interleaved BGR pixels into three planes.
+void splitRow3(const uchar* src, int n, uchar* p0, uchar* p1, uchar* p2)
 {
-    int k = 0;
+    int c = 0;
 #if CV_SIMD128
-    for (; k <= n - 16; k += 16)
+    for (; c <= n - 16; c += 16)
     {
-        v_uint16x8 a0, a1, b0, b1, c0, c1;
-        v_int16x8 dxl, dxh, dyl, dyh;
-        // up row
-        v_expand(v_load(up + k - 3), a0, a1);
-        v_expand(v_load(up + k), b0, b1);
-        v_expand(v_load(up + k + 3), c0, c1);
-        v_int16x8 l0 = v_reinterpret_as_s16(a0), l1 = v_reinterpret_as_s16(a1);
-        v_int16x8 m0 = v_reinterpret_as_s16(b0), m1 = v_reinterpret_as_s16(b1);
-        v_int16x8 r0 = v_reinterpret_as_s16(c0), r1 = v_reinterpret_as_s16(c1);
-        dxl = r0 - l0;
-        dxh = r1 - l1;
-        dyl = v_setzero_s16() - (l0 + m0 + m0 + r0);
-        dyh = v_setzero_s16() - (l1 + m1 + m1 + r1);
-        // middle row
-        v_expand(v_load(mid + k - 3), a0, a1);
-        v_expand(v_load(mid + k + 3), c0, c1);
-        l0 = v_reinterpret_as_s16(a0);
-        l1 = v_reinterpret_as_s16(a1);
-        r0 = v_reinterpret_as_s16(c0);
-        r1 = v_reinterpret_as_s16(c1);
-        dxl += (r0 - l0) + (r0 - l0);
-        dxh += (r1 - l1) + (r1 - l1);
-        // row below
-        v_expand(v_load(dn + k - 3), a0, a1);
-        v_expand(v_load(dn + k), b0, b1);
-        v_expand(v_load(dn + k + 3), c0, c1);
-        l0 = v_reinterpret_as_s16(a0);
-        l1 = v_reinterpret_as_s16(a1);
-        m0 = v_reinterpret_as_s16(b0);
-        m1 = v_reinterpret_as_s16(b1);
-        r0 = v_reinterpret_as_s16(c0);
-        r1 = v_reinterpret_as_s16(c1);
-        dxl += r0 - l0;
-        dxh += r1 - l1;
-        dyl += l0 + m0 + m0 + r0;
-        dyh += l1 + m1 + m1 + r1;
-        v_store(dx + k, dxl);
-        v_store(dx + k + 8, dxh);
-        v_store(dy + k, dyl);
-        v_store(dy + k + 8, dyh);
+        v_uint8x16 a, b, d;
+        v_load_deinterleave(src + 3 * c, a, b, d);
+        v_store(p0 + c, a);
+        v_store(p1 + c, b);
+        v_store(p2 + c, d);
     }
 #endif
-    for (; k < n; ++k)
+    for (; c < n; ++c)
     {
-        dx[k] = (short)((up[k + 3] - up[k - 3]) + 2 * (mid[k + 3] - mid[k - 3])
-                        + (dn[k + 3] - dn[k - 3]));
-        dy[k] = (short)((dn[k - 3] + 2 * dn[k] + dn[k + 3]) - (up[k - 3] + 2 * up[k] + up[k + 3]));
+        p0[c] = src[3 * c];
+        p1[c] = src[3 * c + 1];
+        p2[c] = src[3 * c + 2];
     }
 }
 
-// The channel of largest magnitude (ties: the first, as LINEMOD): its dx, dy as float and
+#if CV_SIMD128
+// Sobel dx, dy (16 bits) of 16 pixels of one plane; rows above, at, below; [-1] readable.
+static inline void sobel16(const uchar* up, const uchar* mid, const uchar* dn, v_int16x8& dx0,
+                           v_int16x8& dx1, v_int16x8& dy0, v_int16x8& dy1)
+{
+    v_uint16x8 a0, a1, b0, b1, c0, c1;
+    v_expand(v_load(up - 1), a0, a1);
+    v_expand(v_load(up), b0, b1);
+    v_expand(v_load(up + 1), c0, c1);
+    v_int16x8 ul0 = v_reinterpret_as_s16(a0), ul1 = v_reinterpret_as_s16(a1);
+    v_int16x8 ur0 = v_reinterpret_as_s16(c0), ur1 = v_reinterpret_as_s16(c1);
+    v_int16x8 us0 = ul0 + ur0 + v_reinterpret_as_s16(b0 + b0);
+    v_int16x8 us1 = ul1 + ur1 + v_reinterpret_as_s16(b1 + b1);
+    dx0 = ur0 - ul0;
+    dx1 = ur1 - ul1;
+    v_expand(v_load(mid - 1), a0, a1);
+    v_expand(v_load(mid + 1), c0, c1);
+    const v_int16x8 m0 = v_reinterpret_as_s16(c0) - v_reinterpret_as_s16(a0);
+    const v_int16x8 m1 = v_reinterpret_as_s16(c1) - v_reinterpret_as_s16(a1);
+    dx0 += m0 + m0;
+    dx1 += m1 + m1;
+    v_expand(v_load(dn - 1), a0, a1);
+    v_expand(v_load(dn), b0, b1);
+    v_expand(v_load(dn + 1), c0, c1);
+    const v_int16x8 dl0 = v_reinterpret_as_s16(a0), dl1 = v_reinterpret_as_s16(a1);
+    const v_int16x8 dr0 = v_reinterpret_as_s16(c0), dr1 = v_reinterpret_as_s16(c1);
+    dx0 += dr0 - dl0;
+    dx1 += dr1 - dl1;
+    dy0 = (dl0 + dr0 + v_reinterpret_as_s16(b0 + b0)) - us0;
+    dy1 = (dl1 + dr1 + v_reinterpret_as_s16(b1 + b1)) - us1;
+}
+
+// 8 pixels: the channel of largest dx^2 + dy^2 (ties: the first), its dx, dy as float and
 // whether its magnitude passes the threshold (0xFF / 0).
-void strongestChannel(const short* dx, const short* dy, int cols, int ithr, float* fx, float* fy,
-                      uchar* strong)
+static inline void select8(const v_int16x8* x, const v_int16x8* y, const v_int32x4& vthr,
+                           float* fx, float* fy, uchar* strong)
+{
+    v_int32x4 ml[3], mh[3];
+    for (int ch = 0; ch < 3; ++ch)
+    {
+        v_int16x8 z0, z1;
+        v_zip(x[ch], y[ch], z0, z1);
+        ml[ch] = v_dotprod(z0, z0);
+        mh[ch] = v_dotprod(z1, z1);
+    }
+    const v_int32x4 s0l = (ml[0] >= ml[1]) & (ml[0] >= ml[2]);
+    const v_int32x4 s0h = (mh[0] >= mh[1]) & (mh[0] >= mh[2]);
+    const v_int32x4 s1l = (ml[1] >= ml[0]) & (ml[1] >= ml[2]);
+    const v_int32x4 s1h = (mh[1] >= mh[0]) & (mh[1] >= mh[2]);
+    const v_int32x4 mlow = v_select(s0l, ml[0], v_select(s1l, ml[1], ml[2]));
+    const v_int32x4 mhigh = v_select(s0h, mh[0], v_select(s1h, mh[1], mh[2]));
+    const v_int16x8 s0 = v_pack(s0l, s0h), s1 = v_pack(s1l, s1h);
+    const v_int16x8 xs = v_select(s0, x[0], v_select(s1, x[1], x[2]));
+    const v_int16x8 ys = v_select(s0, y[0], v_select(s1, y[1], y[2]));
+    v_int32x4 lo, hi;
+    v_expand(xs, lo, hi);
+    v_store(fx, v_cvt_f32(lo));
+    v_store(fx + 4, v_cvt_f32(hi));
+    v_expand(ys, lo, hi);
+    v_store(fy, v_cvt_f32(lo));
+    v_store(fy + 4, v_cvt_f32(hi));
+    v_pack_store(reinterpret_cast<schar*>(strong), v_pack(mlow > vthr, mhigh > vthr));
+}
+#endif
+
+// Per-channel 3x3 Sobel (16 bits) of the three planes (rows above, at, below; one replicated
+// pixel readable on both sides) and the channel of largest magnitude of each pixel.
+void sobelStrongestPlanar(const uchar* const* up, const uchar* const* mid,
+                          const uchar* const* dn, int cols, int ithr, float* fx, float* fy,
+                          uchar* strong)
 {
     int c = 0;
 #if CV_SIMD128
     const v_int32x4 vthr = v_setall_s32(ithr);
-    for (; c <= cols - 8; c += 8)
+    for (; c <= cols - 16; c += 16)
     {
-        v_int16x8 x0, x1, x2, y0, y1, y2;
-        v_load_deinterleave(dx + 3 * c, x0, x1, x2);
-        v_load_deinterleave(dy + 3 * c, y0, y1, y2);
-        v_int16x8 z0, z1;
-        v_zip(x0, y0, z0, z1);
-        const v_int32x4 m0l = v_dotprod(z0, z0), m0h = v_dotprod(z1, z1);
-        v_zip(x1, y1, z0, z1);
-        const v_int32x4 m1l = v_dotprod(z0, z0), m1h = v_dotprod(z1, z1);
-        v_zip(x2, y2, z0, z1);
-        const v_int32x4 m2l = v_dotprod(z0, z0), m2h = v_dotprod(z1, z1);
-        const v_int32x4 s0l = (m0l >= m1l) & (m0l >= m2l), s0h = (m0h >= m1h) & (m0h >= m2h);
-        const v_int32x4 s1l = (m1l >= m0l) & (m1l >= m2l), s1h = (m1h >= m0h) & (m1h >= m2h);
-        const v_int32x4 ml = v_select(s0l, m0l, v_select(s1l, m1l, m2l));
-        const v_int32x4 mh = v_select(s0h, m0h, v_select(s1h, m1h, m2h));
-        const v_int16x8 s0 = v_pack(s0l, s0h), s1 = v_pack(s1l, s1h);
-        const v_int16x8 xs = v_select(s0, x0, v_select(s1, x1, x2));
-        const v_int16x8 ys = v_select(s0, y0, v_select(s1, y1, y2));
-        v_int32x4 lo, hi;
-        v_expand(xs, lo, hi);
-        v_store(fx + c, v_cvt_f32(lo));
-        v_store(fx + c + 4, v_cvt_f32(hi));
-        v_expand(ys, lo, hi);
-        v_store(fy + c, v_cvt_f32(lo));
-        v_store(fy + c + 4, v_cvt_f32(hi));
-        const v_int16x8 ok = v_pack(ml > vthr, mh > vthr);
-        v_pack_store(reinterpret_cast<schar*>(strong + c), ok);
+        v_int16x8 x0[3], x1[3], y0[3], y1[3];
+        for (int ch = 0; ch < 3; ++ch)
+            sobel16(up[ch] + c, mid[ch] + c, dn[ch] + c, x0[ch], x1[ch], y0[ch], y1[ch]);
+        select8(x0, y0, vthr, fx + c, fy + c, strong + c);
+        select8(x1, y1, vthr, fx + c + 8, fy + c + 8, strong + c + 8);
     }
 #endif
     for (; c < cols; ++c)
     {
-        const int i = 3 * c;
-        const int m0 = dx[i] * dx[i] + dy[i] * dy[i];
-        const int m1 = dx[i + 1] * dx[i + 1] + dy[i + 1] * dy[i + 1];
-        const int m2 = dx[i + 2] * dx[i + 2] + dy[i + 2] * dy[i + 2];
-        int ch, m;
-        if (m0 >= m1 && m0 >= m2)
+        int best_m = -1, bx = 0, by = 0;
+        for (int ch = 0; ch < 3; ++ch)
         {
-            ch = 0;
-            m = m0;
+            const uchar* u = up[ch] + c;
+            const uchar* m = mid[ch] + c;
+            const uchar* d = dn[ch] + c;
+            const int dx = (u[1] - u[-1]) + 2 * (m[1] - m[-1]) + (d[1] - d[-1]);
+            const int dy = (d[-1] + 2 * d[0] + d[1]) - (u[-1] + 2 * u[0] + u[1]);
+            const int mag = dx * dx + dy * dy;
+            if (mag > best_m) // strictly greater: ties keep the first channel
+            {
+                best_m = mag;
+                bx = dx;
+                by = dy;
+            }
         }
-        else if (m1 >= m0 && m1 >= m2)
-        {
-            ch = 1;
-            m = m1;
-        }
-        else
-        {
-            ch = 2;
-            m = m2;
-        }
-        fx[c] = dx[i + ch];
-        fy[c] = dy[i + ch];
-        strong[c] = m > ithr ? 255 : 0;
+        fx[c] = (float)bx;
+        fy[c] = (float)by;
+        strong[c] = best_m > ithr ? 255 : 0;
     }
 }
 
@@ -328,29 +332,29 @@ void gradientStripe(const Mat& src, const Mat& mask, int ithr, int block, int a,
     // rows smoothed for the Sobel of rows [a - 1, b + 1), rows blurred from
     const int sa = std::max(a - 2, 0), sb = std::min(b + 2, rows);
     const int ga = std::max(sa - 3, 0), gb = std::min(sb + 3, rows);
-    Mat blurred_buf = scratch(0, gb - ga, cols + 2, CV_8UC3);
-    Mat blurred = blurred_buf.colRange(1, cols + 1);
+    Mat blurred = scratch(0, gb - ga, cols, CV_8UC3);
+    const uchar* blurred_data = blurred.data;
     GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(7, 7), 0, 0, BORDER_REPLICATE);
-    CV_Assert(blurred.data == blurred_buf.data + 3); // written in place, not reallocated
+    CV_Assert(blurred.data == blurred_data); // written in place, not reallocated
+    // the three channels as planes, one replicated pixel on both sides
+    Mat planes = scratch(7, 3 * (sb - sa), cols + 2, CV_8U);
     for (int r = sa; r < sb; ++r)
     {
-        uchar* p = blurred_buf.ptr<uchar>(r - ga);
-        p[0] = p[3];
-        p[1] = p[4];
-        p[2] = p[5];
-        uchar* q = p + 3 * (cols + 1);
-        q[0] = q[-3];
-        q[1] = q[-2];
-        q[2] = q[-1];
+        uchar* p[3];
+        for (int ch = 0; ch < 3; ++ch)
+            p[ch] = planes.ptr<uchar>(3 * (r - sa) + ch) + 1;
+        splitRow3(blurred.ptr<uchar>(r - ga), cols, p[0], p[1], p[2]);
+        for (int ch = 0; ch < 3; ++ch)
+        {
+            p[ch][-1] = p[ch][0];
+            p[ch][cols] = p[ch][cols - 1];
+        }
     }
 
     const int nmax = std::min(block, b - a) + 2;
     Mat fx = scratch(1, nmax, cols, CV_32F), fy = scratch(2, nmax, cols, CV_32F);
     Mat angle = scratch(3, nmax, cols, CV_32F);
     Mat strong = scratch(4, nmax, cols, CV_8U), onehot = scratch(5, nmax, cols, CV_8U);
-    Mat dxy = scratch(6, 2, 3 * cols, CV_16S);
-    short* dxbuf = dxy.ptr<short>(0);
-    short* dybuf = dxy.ptr<short>(1);
     for (int ba = a; ba < b; ba += block)
     {
         const int bb = std::min(ba + block, b);
@@ -359,12 +363,17 @@ void gradientStripe(const Mat& src, const Mat& mask, int ithr, int block, int a,
         const int nl = lb - la;
         for (int r = la; r < lb; ++r)
         {
-            const uchar* up = blurred_buf.ptr<uchar>(std::max(r - 1, 0) - ga) + 3;
-            const uchar* mid = blurred_buf.ptr<uchar>(r - ga) + 3;
-            const uchar* dn = blurred_buf.ptr<uchar>(std::min(r + 1, rows - 1) - ga) + 3;
-            sobelRow3(up, mid, dn, 3 * cols, dxbuf, dybuf);
-            strongestChannel(dxbuf, dybuf, cols, ithr, fx.ptr<float>(r - la),
-                             fy.ptr<float>(r - la), strong.ptr<uchar>(r - la));
+            const uchar* up[3];
+            const uchar* mid[3];
+            const uchar* dn[3];
+            for (int ch = 0; ch < 3; ++ch)
+            {
+                up[ch] = planes.ptr<uchar>(3 * (std::max(r - 1, 0) - sa) + ch) + 1;
+                mid[ch] = planes.ptr<uchar>(3 * (r - sa) + ch) + 1;
+                dn[ch] = planes.ptr<uchar>(3 * (std::min(r + 1, rows - 1) - sa) + ch) + 1;
+            }
+            sobelStrongestPlanar(up, mid, dn, cols, ithr, fx.ptr<float>(r - la),
+                                 fy.ptr<float>(r - la), strong.ptr<uchar>(r - la));
         }
         // cv::phase of one continuous array: on at least 32 values (see gradient level) the
         // same code runs on every pixel as on the whole image
@@ -415,7 +424,11 @@ void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold
     // AVX2, 32 with AVX-512) and SIMD code otherwise: blocks of whole rows of at least 32 pixels
     // keep every pixel on the path it takes in the whole image
     const int block = cols >= 32 ? 32 : rows;
-    const int nstripes = cols >= 32 ? stripesFor(rows, cols, 32) : 1;
+    // stripes whose blurred rows stay in the cache (about 192 KB), at least as many as
+    // stripesFor() gives the threads
+    const int cache_rows = std::max(32, (192 << 10) / (3 * (cols + 2)));
+    const int nstripes = cols >= 32
+        ? std::max(stripesFor(rows, cols, 32), (rows + cache_rows - 1) / cache_rows) : 1;
     parallel_for_(Range(0, rows), [&](const Range& range) {
         gradientStripe(src, mask, ithr, block, range.start, range.end, dst);
     }, nstripes);
@@ -990,20 +1003,36 @@ void quantizeLevel(const ModalityInfo& info, const Mat& src, const Mat& mask, Ma
 }
 
 // The next level of an image (the modalities' pyrDown) or of a mask (INTER_NEAREST).
-Mat nextImage(const Mat& img)
+// `down`, when given, is reused when its size fits (pyramids of the calling thread, kept between
+// frames).
+Mat nextImage(const Mat& img, Mat* down = 0)
 {
-    Mat down;
-    pyrDown(img, down, Size(img.cols / 2, img.rows / 2));
-    return down;
+    Mat local;
+    Mat& out = down ? *down : local;
+    pyrDown(img, out, Size(img.cols / 2, img.rows / 2));
+    return out;
 }
 
-Mat nextMask(const Mat& mask)
+Mat nextMask(const Mat& mask, Mat* down = 0)
 {
     if (mask.empty())
         return Mat();
-    Mat down;
-    resize(mask, down, Size(mask.cols / 2, mask.rows / 2), 0.0, 0.0, INTER_NEAREST);
-    return down;
+    Mat local;
+    Mat& out = down ? *down : local;
+    resize(mask, out, Size(mask.cols / 2, mask.rows / 2), 0.0, 0.0, INTER_NEAREST);
+    return out;
+}
+
+// A buffer of the calling thread for level l of pyramid j, kept between calls.
+Mat* pyramidBuffer(int kind, size_t j, int l)
+{
+    static thread_local std::vector<std::vector<Mat> > buffers[2];
+    std::vector<std::vector<Mat> >& b = buffers[kind];
+    if (b.size() <= j)
+        b.resize(j + 1);
+    if ((int)b[j].size() <= l)
+        b[j].resize(l + 1);
+    return &b[j][l];
 }
 
 bool sameData(const Mat& a, const Mat& b)
@@ -1102,7 +1131,10 @@ void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
         for (int i = 0; i < M; ++i)
             infos[i] = classifyModality(modalities[i]);
     }
-    quantized.assign(levels, std::vector<Mat>(M));
+    // the caller's Mats are written in place when their size fits (as OpenCV's outputs)
+    quantized.resize(levels);
+    for (int l = 0; l < levels; ++l)
+        quantized[l].resize(M);
 
     // pyramids of the images and masks, shared by the modalities given the same data
     std::vector<int> img_of(M, -1), mask_of(M, -1);
@@ -1155,9 +1187,9 @@ void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
         if (l > 0)
         {
             for (size_t j = 0; j < imgs.size(); ++j)
-                imgs[j].push_back(nextImage(imgs[j][l - 1]));
+                imgs[j].push_back(nextImage(imgs[j][l - 1], pyramidBuffer(0, j, l)));
             for (size_t j = 0; j < msks.size(); ++j)
-                msks[j].push_back(nextMask(msks[j][l - 1]));
+                msks[j].push_back(nextMask(msks[j][l - 1], pyramidBuffer(1, j, l)));
         }
         for (int i = 0; i < M; ++i)
             if (img_of[i] >= 0)

@@ -65,7 +65,10 @@ CV_EXPORTS bool fastQuantize(const Ptr<cv::linemod::Modality>& modality, const M
 /** Every modality at every level: quantized[l][i] for level l, modality i. Modalities with a
 fast path share the pyramids (pyrDown of the source, INTER_NEAREST of the mask) when they are
 given the same source or mask (same data); the others go through their virtual calls.
-`infos` may be empty (then classified here); masks may be empty or hold empty Mats. */
+`infos` may be empty (then classified here); masks may be empty or hold empty Mats.
+The Mats already in `quantized` are written in place when their size and type fit (as OpenCV's
+outputs; no page faults for a new frame of the same size): pass a fresh vector to keep the
+previous frame's images. The pyramids themselves live in buffers of the calling thread. */
 CV_EXPORTS void quantizeAllLevels(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
                        const std::vector<ModalityInfo>& infos, const std::vector<Mat>& sources,
                        const std::vector<Mat>& masks, int levels,
