@@ -1,0 +1,182 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The scene pyramid of a frame (every pyramid level quantized by every modality; then spread and
+// response maps): forestmod's fast paths (src/quantize_fast.*) against cv::linemod's own
+// quantization of the same modalities (process + quantize + pyrDown + quantize), VGA and 720p,
+// RGB (ColorGradient + ColorHue) and RGB-D (+ DepthNormal), 1 and 2 threads. Two levels, as the
+// detector's defaults (T = {5, 8}).
+
+#include "perf_precomp.hpp"
+#include "../src/quantize_fast.hpp"
+
+#include "opencv2/core/utils/filesystem.hpp"
+
+namespace opencv_test { namespace {
+
+using namespace cv::forestmod::detail;
+
+enum { SCENE_RGB = 0, SCENE_RGBD = 1 };
+CV_ENUM(SceneKind, SCENE_RGB, SCENE_RGBD)
+// linemod: cv::linemod's quantization; fast: quantize_fast's
+// reference: what the detector did before (virtual quantization + detail::spreadLabels /
+// computeResponseMaps), fast: quantize_fast's quantization + spreadLabelsFast /
+// computeResponseMapsFast
+enum { IMPL_LINEMOD = 0, IMPL_FAST = 1 };
+CV_ENUM(QuantImpl, IMPL_LINEMOD, IMPL_FAST)
+
+struct Scene
+{
+    std::vector<Ptr<linemod::Modality> > modalities;
+    std::vector<Mat> sources;
+};
+
+// A real LM-O colour frame (shipped) and, for RGB-D, a real depth frame of ../shared
+// (FORESTMOD_SHARED_DATA/real_rgbd) or, without it, a tilted plane with boxes on it.
+static Scene makeScene(Size size, int kind)
+{
+    Scene s;
+    Mat rgb = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"), IMREAD_COLOR);
+    CV_Assert(!rgb.empty());
+    if (rgb.size() != size)
+        resize(rgb, rgb, size, 0, 0, INTER_LINEAR);
+    s.modalities.push_back(linemod::Modality::create("ColorGradient"));
+    s.modalities.push_back(ColorHue::create());
+    s.sources.push_back(rgb);
+    s.sources.push_back(rgb);
+    if (kind == SCENE_RGBD)
+    {
+        Mat depth;
+        const char* shared = getenv("FORESTMOD_SHARED_DATA");
+        if (shared && *shared)
+        {
+            const std::string p = std::string(shared) + "/real_rgbd/linemod_scene_depth.png";
+            if (utils::fs::exists(p))
+                depth = imread(p, IMREAD_UNCHANGED);
+        }
+        if (depth.empty() || depth.type() != CV_16UC1)
+        {
+            depth.create(480, 640, CV_16U);
+            for (int r = 0; r < depth.rows; ++r)
+                for (int c = 0; c < depth.cols; ++c)
+                    depth.at<ushort>(r, c) = (ushort)(900 + r / 2 + c / 8);
+            rectangle(depth, Rect(200, 150, 120, 90), Scalar(820), FILLED);
+            circle(depth, Point(450, 300), 60, Scalar(850), FILLED);
+        }
+        if (depth.size() != size)
+            resize(depth, depth, size, 0, 0, INTER_NEAREST);
+        s.modalities.push_back(linemod::Modality::create("DepthNormal"));
+        s.sources.push_back(depth);
+    }
+    return s;
+}
+
+typedef tuple<Size, SceneKind, int, QuantImpl> SceneParams;
+typedef TestBaseWithParam<SceneParams> Forestmod_ScenePyramid;
+
+// Quantization of 2 levels by every modality.
+PERF_TEST_P(Forestmod_ScenePyramid, quantize,
+            Combine(Values(szVGA, sz720p), SceneKind::all(), Values(1, 2), QuantImpl::all()))
+{
+    const Size size = get<0>(GetParam());
+    const int kind = get<1>(GetParam()), threads = get<2>(GetParam());
+    const int impl = get<3>(GetParam());
+    const Scene scene = makeScene(size, kind);
+    const int M = (int)scene.modalities.size(), levels = 2;
+    std::vector<ModalityInfo> infos;
+    for (int i = 0; i < M; ++i)
+        infos.push_back(classifyModality(scene.modalities[i]));
+    const int old_threads = getNumThreads();
+    setNumThreads(threads);
+    std::vector<std::vector<Mat> > q(levels, std::vector<Mat>(M));
+    TEST_CYCLE()
+    {
+        if (impl == IMPL_LINEMOD)
+        {
+            for (int i = 0; i < M; ++i)
+            {
+                Ptr<linemod::QuantizedPyramid> qp = scene.modalities[i]->process(scene.sources[i]);
+                for (int l = 0; l < levels; ++l)
+                {
+                    if (l > 0)
+                        qp->pyrDown();
+                    qp->quantize(q[l][i]);
+                }
+            }
+        }
+        else
+        {
+            quantizeAllLevels(scene.modalities, infos, scene.sources, std::vector<Mat>(), levels,
+                              q);
+        }
+    }
+    setNumThreads(old_threads);
+    for (int i = 0; i < M; ++i)
+    {
+        ASSERT_EQ(size, q[0][i].size());
+        ASSERT_GT(countNonZero(q[0][i]), 0);
+    }
+    SANITY_CHECK_NOTHING();
+}
+
+// The whole scene pyramid: quantization of 2 levels, spread (T = 5, 8) and the 8 response maps
+// per modality and level. IMPL_LINEMOD here is the detector's path before the fast paths: the
+// modalities' virtual calls and validator.cpp's spreadLabels / computeResponseMaps (cv::linemod's
+// own spreading is not reachable from outside).
+PERF_TEST_P(Forestmod_ScenePyramid, quantize_spread_response,
+            Combine(Values(szVGA, sz720p), SceneKind::all(), Values(1, 2), QuantImpl::all()))
+{
+    const Size size = get<0>(GetParam());
+    const int kind = get<1>(GetParam()), threads = get<2>(GetParam());
+    const int impl = get<3>(GetParam());
+    const Scene scene = makeScene(size, kind);
+    const int M = (int)scene.modalities.size(), levels = 2;
+    const int T[2] = { 5, 8 }, pad = 64;
+    std::vector<ModalityInfo> infos;
+    for (int i = 0; i < M; ++i)
+        infos.push_back(classifyModality(scene.modalities[i]));
+    const int old_threads = getNumThreads();
+    setNumThreads(threads);
+    std::vector<std::vector<Mat> > q(levels, std::vector<Mat>(M)), spread = q;
+    std::vector<std::vector<std::vector<Mat> > > resp(
+        levels, std::vector<std::vector<Mat> >(M));
+    TEST_CYCLE()
+    {
+        if (impl == IMPL_LINEMOD)
+        {
+            for (int i = 0; i < M; ++i)
+            {
+                Ptr<linemod::QuantizedPyramid> qp = scene.modalities[i]->process(scene.sources[i]);
+                for (int l = 0; l < levels; ++l)
+                {
+                    if (l > 0)
+                        qp->pyrDown();
+                    qp->quantize(q[l][i]);
+                    spreadLabelsReference(q[l][i], spread[l][i], T[l], pad >> l);
+                    computeResponseMapsReference(spread[l][i], resp[l][i]);
+                }
+            }
+        }
+        else
+        {
+            quantizeAllLevels(scene.modalities, infos, scene.sources, std::vector<Mat>(), levels,
+                              q);
+            for (int l = 0; l < levels; ++l)
+                for (int i = 0; i < M; ++i)
+                {
+                    spreadLabelsFast(q[l][i], spread[l][i], T[l], pad >> l);
+                    computeResponseMapsFast(spread[l][i], resp[l][i]);
+                }
+        }
+    }
+    setNumThreads(old_threads);
+    for (int i = 0; i < M; ++i)
+    {
+        ASSERT_EQ(8u, resp[0][i].size());
+        ASSERT_GT(countNonZero(resp[1][i][0]), 0);
+    }
+    SANITY_CHECK_NOTHING();
+}
+
+}} // namespace

@@ -1,0 +1,1344 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Bit-exact fast quantization of the standard modalities, vectorised spreading and response maps
+// (quantize_fast.hpp). What each step must reproduce:
+//
+// ColorGradient (LINEMOD 2.2): 7x7 Gaussian blur (BORDER_REPLICATE), 3x3 Sobel per channel
+// (16-bit, BORDER_REPLICATE), per pixel the channel of largest dx^2 + dy^2 (ties: the first),
+// cv::phase in degrees of that channel's (dx, dy), rounded to 16 bins (x 16/360, round to
+// nearest even) and folded to 8 (& 7), image border set to bin 0; a pixel keeps its bin
+// (1 << bin) when its magnitude is above weak_threshold^2 and at least 5 of its 3x3 neighbours
+// share a bin; the border rows and columns stay 0. The level's mask (INTER_NEAREST of the
+// previous one) zeroes the rest.
+//
+// ColorHue: optional Gaussian blur (BORDER_REPLICATE), HSV, 1 << hueBin(h) where s and v pass
+// their thresholds, masked.
+//
+// The OpenCV functions used here are called on whole images or on images of whole rows that
+// OpenCV treats exactly as the full image (the same code path for every pixel), so their
+// results do not depend on how the frame is cut into stripes.
+
+#include "precomp.hpp"
+#include "quantize_fast.hpp"
+#include "validator.hpp"
+
+#include "opencv2/core/hal/hal.hpp"
+#include "opencv2/core/hal/intrin.hpp"
+
+#include <atomic>
+#include <mutex>
+#include <typeinfo>
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+using linemod::Modality;
+
+namespace {
+bool depthNormalReady(const ModalityInfo& info);
+} // namespace
+
+ModalityInfo classifyModality(const Ptr<Modality>& modality)
+{
+    ModalityInfo info;
+    if (!modality)
+        return info;
+    const Modality& m = *modality;
+    if (typeid(m) == typeid(linemod::ColorGradient))
+    {
+        const linemod::ColorGradient& g = static_cast<const linemod::ColorGradient&>(m);
+        info.kind = MODALITY_COLOR_GRADIENT;
+        info.weak_threshold = g.weak_threshold;
+    }
+    else if (typeid(m) == typeid(linemod::DepthNormal))
+    {
+        const linemod::DepthNormal& d = static_cast<const linemod::DepthNormal&>(m);
+        info.kind = MODALITY_DEPTH_NORMAL;
+        info.distance_threshold = d.distance_threshold;
+        info.difference_threshold = d.difference_threshold;
+        depthNormalReady(info); // reads cv::linemod's normal labels now, not at the first frame
+    }
+    else if (typeid(m) == typeid(ColorHue))
+    {
+        const ColorHue::Params& p = static_cast<const ColorHue&>(m).getParams();
+        info.kind = MODALITY_COLOR_HUE;
+        info.saturation_threshold = p.saturation_threshold;
+        info.value_threshold = p.value_threshold;
+        info.blur_size = p.blur_size;
+    }
+    return info;
+}
+
+
+namespace {
+
+// Stripes for parallel_for_: one per thread is not enough to balance a shared machine; a stripe
+// recomputes a few context rows, so not too many either.
+int stripesFor(int rows, int cols, int min_rows)
+{
+    const int threads = getNumThreads();
+    if (threads <= 1 || cols < 32 || rows < 2 * min_rows)
+        return 1;
+    return std::max(1, std::min(rows / min_rows, 4 * threads));
+}
+
+// Rows [a, b) of `src` as an image of its own (not a submatrix): OpenCV's filters then treat
+// them exactly as a whole image, with `border` replicated at their first and last rows. When the
+// source itself is a submatrix (a ROI the caller passed), a ROI of it keeps that behaviour.
+Mat rowsAsImage(const Mat& src, int a, int b)
+{
+    if (src.isSubmatrix())
+        return src.rowRange(a, b);
+    return Mat(b - a, src.cols, src.type(), const_cast<uchar*>(src.ptr(a)), src.step);
+}
+
+// ------------------------------------------------------------------------------------------
+// ColorGradient
+
+// Splits n interleaved BGR pixels into three planes.
+void splitRow3(const uchar* src, int n, uchar* p0, uchar* p1, uchar* p2)
+{
+    int c = 0;
+#if CV_SIMD128
+    for (; c <= n - 16; c += 16)
+    {
+        v_uint8x16 a, b, d;
+        v_load_deinterleave(src + 3 * c, a, b, d);
+        v_store(p0 + c, a);
+        v_store(p1 + c, b);
+        v_store(p2 + c, d);
+    }
+#endif
+    for (; c < n; ++c)
+    {
+        p0[c] = src[3 * c];
+        p1[c] = src[3 * c + 1];
+        p2[c] = src[3 * c + 2];
+    }
+}
+
+#if CV_SIMD128
+// Sobel dx, dy (16 bits) of 16 pixels of one plane; rows above, at, below; [-1] readable.
+static inline void sobel16(const uchar* up, const uchar* mid, const uchar* dn, v_int16x8& dx0,
+                           v_int16x8& dx1, v_int16x8& dy0, v_int16x8& dy1)
+{
+    v_uint16x8 a0, a1, b0, b1, c0, c1;
+    v_expand(v_load(up - 1), a0, a1);
+    v_expand(v_load(up), b0, b1);
+    v_expand(v_load(up + 1), c0, c1);
+    v_int16x8 ul0 = v_reinterpret_as_s16(a0), ul1 = v_reinterpret_as_s16(a1);
+    v_int16x8 ur0 = v_reinterpret_as_s16(c0), ur1 = v_reinterpret_as_s16(c1);
+    v_int16x8 us0 = ul0 + ur0 + v_reinterpret_as_s16(b0 + b0);
+    v_int16x8 us1 = ul1 + ur1 + v_reinterpret_as_s16(b1 + b1);
+    dx0 = ur0 - ul0;
+    dx1 = ur1 - ul1;
+    v_expand(v_load(mid - 1), a0, a1);
+    v_expand(v_load(mid + 1), c0, c1);
+    const v_int16x8 m0 = v_reinterpret_as_s16(c0) - v_reinterpret_as_s16(a0);
+    const v_int16x8 m1 = v_reinterpret_as_s16(c1) - v_reinterpret_as_s16(a1);
+    dx0 += m0 + m0;
+    dx1 += m1 + m1;
+    v_expand(v_load(dn - 1), a0, a1);
+    v_expand(v_load(dn), b0, b1);
+    v_expand(v_load(dn + 1), c0, c1);
+    const v_int16x8 dl0 = v_reinterpret_as_s16(a0), dl1 = v_reinterpret_as_s16(a1);
+    const v_int16x8 dr0 = v_reinterpret_as_s16(c0), dr1 = v_reinterpret_as_s16(c1);
+    dx0 += dr0 - dl0;
+    dx1 += dr1 - dl1;
+    dy0 = (dl0 + dr0 + v_reinterpret_as_s16(b0 + b0)) - us0;
+    dy1 = (dl1 + dr1 + v_reinterpret_as_s16(b1 + b1)) - us1;
+}
+
+// 8 pixels: the channel of largest dx^2 + dy^2 (ties: the first), its dx, dy as float and
+// whether its magnitude passes the threshold (0xFF / 0).
+static inline void select8(const v_int16x8* x, const v_int16x8* y, const v_int32x4& vthr,
+                           float* fx, float* fy, uchar* strong)
+{
+    v_int32x4 ml[3], mh[3];
+    for (int ch = 0; ch < 3; ++ch)
+    {
+        v_int16x8 z0, z1;
+        v_zip(x[ch], y[ch], z0, z1);
+        ml[ch] = v_dotprod(z0, z0);
+        mh[ch] = v_dotprod(z1, z1);
+    }
+    const v_int32x4 s0l = (ml[0] >= ml[1]) & (ml[0] >= ml[2]);
+    const v_int32x4 s0h = (mh[0] >= mh[1]) & (mh[0] >= mh[2]);
+    const v_int32x4 s1l = (ml[1] >= ml[0]) & (ml[1] >= ml[2]);
+    const v_int32x4 s1h = (mh[1] >= mh[0]) & (mh[1] >= mh[2]);
+    const v_int32x4 mlow = v_select(s0l, ml[0], v_select(s1l, ml[1], ml[2]));
+    const v_int32x4 mhigh = v_select(s0h, mh[0], v_select(s1h, mh[1], mh[2]));
+    const v_int16x8 s0 = v_pack(s0l, s0h), s1 = v_pack(s1l, s1h);
+    const v_int16x8 xs = v_select(s0, x[0], v_select(s1, x[1], x[2]));
+    const v_int16x8 ys = v_select(s0, y[0], v_select(s1, y[1], y[2]));
+    v_int32x4 lo, hi;
+    v_expand(xs, lo, hi);
+    v_store(fx, v_cvt_f32(lo));
+    v_store(fx + 4, v_cvt_f32(hi));
+    v_expand(ys, lo, hi);
+    v_store(fy, v_cvt_f32(lo));
+    v_store(fy + 4, v_cvt_f32(hi));
+    v_pack_store(reinterpret_cast<schar*>(strong), v_pack(mlow > vthr, mhigh > vthr));
+}
+#endif
+
+// Per-channel 3x3 Sobel (16 bits) of the three planes (rows above, at, below; one replicated
+// pixel readable on both sides) and the channel of largest magnitude of each pixel.
+void sobelStrongestPlanar(const uchar* const* up, const uchar* const* mid,
+                          const uchar* const* dn, int cols, int ithr, float* fx, float* fy,
+                          uchar* strong)
+{
+    int c = 0;
+#if CV_SIMD128
+    const v_int32x4 vthr = v_setall_s32(ithr);
+    for (; c <= cols - 16; c += 16)
+    {
+        v_int16x8 x0[3], x1[3], y0[3], y1[3];
+        for (int ch = 0; ch < 3; ++ch)
+            sobel16(up[ch] + c, mid[ch] + c, dn[ch] + c, x0[ch], x1[ch], y0[ch], y1[ch]);
+        select8(x0, y0, vthr, fx + c, fy + c, strong + c);
+        select8(x1, y1, vthr, fx + c + 8, fy + c + 8, strong + c + 8);
+    }
+#endif
+    for (; c < cols; ++c)
+    {
+        int best_m = -1, bx = 0, by = 0;
+        for (int ch = 0; ch < 3; ++ch)
+        {
+            const uchar* u = up[ch] + c;
+            const uchar* m = mid[ch] + c;
+            const uchar* d = dn[ch] + c;
+            const int dx = (u[1] - u[-1]) + 2 * (m[1] - m[-1]) + (d[1] - d[-1]);
+            const int dy = (d[-1] + 2 * d[0] + d[1]) - (u[-1] + 2 * u[0] + u[1]);
+            const int mag = dx * dx + dy * dy;
+            if (mag > best_m) // strictly greater: ties keep the first channel
+            {
+                best_m = mag;
+                bx = dx;
+                by = dy;
+            }
+        }
+        fx[c] = (float)bx;
+        fy[c] = (float)by;
+        strong[c] = best_m > ithr ? 255 : 0;
+    }
+}
+
+// One-hot orientation (1 << (round(angle * 16/360) & 7)) of a row of angles in degrees; the
+// first and last columns get bin 0 as LINEMOD's border.
+void orientationRow(const float* angle, int cols, uchar* onehot)
+{
+    const float scale = (float)(16.0 / 360.0); // what convertTo(CV_8U, 16.0 / 360.0) uses
+    int c = 0;
+#if CV_SIMD128
+    const v_float32x4 vs = v_setall_f32(scale);
+    const v_uint8x16 seven = v_setall_u8(7);
+    for (; c <= cols - 16; c += 16)
+    {
+        const v_int32x4 i0 = v_round(v_load(angle + c) * vs);
+        const v_int32x4 i1 = v_round(v_load(angle + c + 4) * vs);
+        const v_int32x4 i2 = v_round(v_load(angle + c + 8) * vs);
+        const v_int32x4 i3 = v_round(v_load(angle + c + 12) * vs);
+        const v_uint8x16 bin = v_pack_u(v_pack(i0, i1), v_pack(i2, i3)) & seven;
+        v_uint8x16 oh = v_setzero_u8();
+        for (int k = 0; k < 8; ++k)
+            oh |= (bin == v_setall_u8((uchar)k)) & v_setall_u8((uchar)(1 << k));
+        v_store(onehot + c, oh);
+    }
+#endif
+    for (; c < cols; ++c)
+        onehot[c] = (uchar)(1 << (saturate_cast<uchar>(angle[c] * scale) & 7));
+    onehot[0] = 1;
+    onehot[cols - 1] = 1;
+}
+
+// 1 << bin where at least 5 of the 3x3 one-hot labels around a pixel share the bin, else 0:
+// per bit, a bit-sliced count of the 9 neighbours (full adders on bytes), >= 5 when
+// bit3 | (bit2 & (bit1 | bit0)). At most one bin can reach 5 of 9.
+template <typename V> static inline V majority9(const V& a0, const V& a1, const V& a2,
+                                                 const V& b0, const V& b1, const V& b2,
+                                                 const V& c0, const V& c1, const V& c2)
+{
+    // each row: 2-bit count (s weight 1, k weight 2)
+    const V xa = a0 ^ a1, xb = b0 ^ b1, xc = c0 ^ c1;
+    const V sa = xa ^ a2, ka = (a0 & a1) | (a2 & xa);
+    const V sb = xb ^ b2, kb = (b0 & b1) | (b2 & xb);
+    const V sc = xc ^ c2, kc = (c0 & c1) | (c2 & xc);
+    // sum of the rows
+    const V xs = sa ^ sb, xk = ka ^ kb;
+    const V bit0 = xs ^ sc;
+    const V c1w2 = (sa & sb) | (sc & xs); // weight 2
+    const V s2 = xk ^ kc;                  // weight 2
+    const V c2w4 = (ka & kb) | (kc & xk);  // weight 4
+    const V bit1 = c1w2 ^ s2;
+    const V t = c1w2 & s2; // weight 4
+    const V bit2 = c2w4 ^ t;
+    const V bit3 = c2w4 & t;
+    return bit3 | (bit2 & (bit1 | bit0));
+}
+
+void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar* strong,
+                 const uchar* mask, int cols, uchar* dst)
+{
+    dst[0] = 0;
+    dst[cols - 1] = 0;
+    int c = 1;
+#if CV_SIMD128
+    const v_uint8x16 z = v_setzero_u8();
+    for (; c <= cols - 17; c += 16)
+    {
+        v_uint8x16 v = majority9(v_load(up + c - 1), v_load(up + c), v_load(up + c + 1),
+                                 v_load(mid + c - 1), v_load(mid + c), v_load(mid + c + 1),
+                                 v_load(dn + c - 1), v_load(dn + c), v_load(dn + c + 1));
+        v &= v_load(strong + c);
+        if (mask)
+            v = v_select(v_load(mask + c) == z, z, v);
+        v_store(dst + c, v);
+    }
+#endif
+    for (; c < cols - 1; ++c)
+    {
+        uchar v = majority9<uchar>(up[c - 1], up[c], up[c + 1], mid[c - 1], mid[c], mid[c + 1],
+                                   dn[c - 1], dn[c], dn[c + 1]);
+        v &= strong[c];
+        if (mask && !mask[c])
+            v = 0;
+        dst[c] = v;
+    }
+}
+
+// Scratch memory of the calling thread, kept between calls (fresh buffers of a few MB per frame
+// cost more in page faults than the work done in them). slot: one per buffer in use at a time.
+enum { SCRATCH_SLOTS = 8 };
+Mat scratch(int slot, int rows, int cols, int type)
+{
+    static thread_local std::vector<uchar> pool[SCRATCH_SLOTS];
+    CV_DbgAssert(slot >= 0 && slot < SCRATCH_SLOTS);
+    const size_t need = (size_t)rows * cols * CV_ELEM_SIZE(type) + CV_SIMD_WIDTH + 64;
+    std::vector<uchar>& buf = pool[slot];
+    if (buf.size() < need)
+        buf.resize(need);
+    return Mat(rows, cols, type, alignPtr(&buf[0], 64));
+}
+
+// Output rows [a, b) of one level, in blocks of `block` rows: blur of the stripe, then per block
+// Sobel, strongest channel, phase, one-hot bins and the 3x3 vote.
+void gradientStripe(const Mat& src, const Mat& mask, int ithr, int block, int a, int b, Mat& dst)
+{
+    const int rows = src.rows, cols = src.cols;
+    // rows smoothed for the Sobel of rows [a - 1, b + 1), rows blurred from
+    const int sa = std::max(a - 2, 0), sb = std::min(b + 2, rows);
+    const int ga = std::max(sa - 3, 0), gb = std::min(sb + 3, rows);
+    Mat blurred = scratch(0, gb - ga, cols, CV_8UC3);
+    const uchar* blurred_data = blurred.data;
+    GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(7, 7), 0, 0, BORDER_REPLICATE);
+    CV_Assert(blurred.data == blurred_data); // written in place, not reallocated
+    // the three channels as planes, one replicated pixel on both sides
+    Mat planes = scratch(7, 3 * (sb - sa), cols + 2, CV_8U);
+    for (int r = sa; r < sb; ++r)
+    {
+        uchar* p[3];
+        for (int ch = 0; ch < 3; ++ch)
+            p[ch] = planes.ptr<uchar>(3 * (r - sa) + ch) + 1;
+        splitRow3(blurred.ptr<uchar>(r - ga), cols, p[0], p[1], p[2]);
+        for (int ch = 0; ch < 3; ++ch)
+        {
+            p[ch][-1] = p[ch][0];
+            p[ch][cols] = p[ch][cols - 1];
+        }
+    }
+
+    const int nmax = std::min(block, b - a) + 2;
+    Mat fx = scratch(1, nmax, cols, CV_32F), fy = scratch(2, nmax, cols, CV_32F);
+    Mat angle = scratch(3, nmax, cols, CV_32F);
+    Mat strong = scratch(4, nmax, cols, CV_8U), onehot = scratch(5, nmax, cols, CV_8U);
+    for (int ba = a; ba < b; ba += block)
+    {
+        const int bb = std::min(ba + block, b);
+        // rows whose one-hot bins the vote of rows [ba, bb) reads
+        const int la = std::max(ba - 1, 0), lb = std::min(bb + 1, rows);
+        const int nl = lb - la;
+        for (int r = la; r < lb; ++r)
+        {
+            const uchar* up[3];
+            const uchar* mid[3];
+            const uchar* dn[3];
+            for (int ch = 0; ch < 3; ++ch)
+            {
+                up[ch] = planes.ptr<uchar>(3 * (std::max(r - 1, 0) - sa) + ch) + 1;
+                mid[ch] = planes.ptr<uchar>(3 * (r - sa) + ch) + 1;
+                dn[ch] = planes.ptr<uchar>(3 * (std::min(r + 1, rows - 1) - sa) + ch) + 1;
+            }
+            sobelStrongestPlanar(up, mid, dn, cols, ithr, fx.ptr<float>(r - la),
+                                 fy.ptr<float>(r - la), strong.ptr<uchar>(r - la));
+        }
+        // cv::phase of one continuous array: on at least 32 values (see gradient level) the
+        // same code runs on every pixel as on the whole image
+        hal::fastAtan32f(fy.ptr<float>(), fx.ptr<float>(), angle.ptr<float>(), nl * cols, true);
+        for (int r = la; r < lb; ++r)
+        {
+            uchar* oh = onehot.ptr<uchar>(r - la);
+            if (r == 0 || r == rows - 1)
+                memset(oh, 1, cols);
+            else
+                orientationRow(angle.ptr<float>(r - la), cols, oh);
+        }
+        for (int r = ba; r < bb; ++r)
+        {
+            uchar* d = dst.ptr<uchar>(r);
+            if (r == 0 || r == rows - 1)
+            {
+                memset(d, 0, cols);
+                continue;
+            }
+            majorityRow(onehot.ptr<uchar>(r - 1 - la), onehot.ptr<uchar>(r - la),
+                        onehot.ptr<uchar>(r + 1 - la), strong.ptr<uchar>(r - la),
+                        mask.empty() ? 0 : mask.ptr<uchar>(r), cols, d);
+        }
+    }
+}
+
+void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold, Mat& dst)
+{
+    CV_Assert(src.type() == CV_8UC3);
+    const int rows = src.rows, cols = src.cols;
+    dst.create(rows, cols, CV_8U);
+    if (rows < 3 || cols < 3)
+    {
+        dst.setTo(Scalar::all(0));
+        return;
+    }
+    // LINEMOD: float magnitude (exact: below 2^24) > float threshold^2
+    const float thr = weak_threshold * weak_threshold;
+    int ithr;
+    if (!(thr >= 0.f))
+        ithr = -1;
+    else if ((double)thr >= (double)INT_MAX)
+        ithr = INT_MAX;
+    else
+        ithr = (int)std::floor((double)thr);
+    // cv::phase runs its scalar code on arrays shorter than 2 SIMD vectors (16 values with
+    // AVX2, 32 with AVX-512) and SIMD code otherwise: blocks of whole rows of at least 32 pixels
+    // keep every pixel on the path it takes in the whole image
+    const int block = cols >= 32 ? 32 : rows;
+    // stripes whose blurred rows stay in the cache (about 192 KB), at least as many as
+    // stripesFor() gives the threads
+    const int cache_rows = std::max(32, (192 << 10) / (3 * (cols + 2)));
+    const int nstripes = cols >= 32
+        ? std::max(stripesFor(rows, cols, 32), (rows + cache_rows - 1) / cache_rows) : 1;
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        gradientStripe(src, mask, ithr, block, range.start, range.end, dst);
+    }, nstripes);
+}
+
+// ------------------------------------------------------------------------------------------
+// ColorHue
+
+void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, uchar* dst)
+{
+    // hueBin(h) = ((4 h + 45) / 90) & 7 changes at h = 12, 34, 57, 79, 102, 124, 147, 169
+    static const uchar edges[9] = { 0, 12, 34, 57, 79, 102, 124, 147, 169 };
+    int c = 0;
+#if CV_SIMD128
+    const v_uint8x16 vs = v_setall_u8((uchar)std::min(smin, 255));
+    const v_uint8x16 vv = v_setall_u8((uchar)std::min(vmin, 255));
+    const v_uint8x16 z = v_setzero_u8();
+    const v_uint8x16 h180 = v_setall_u8(180);
+    for (; c <= cols - 16; c += 16)
+    {
+        v_uint8x16 h, s, v;
+        v_load_deinterleave(hsv + 3 * c, h, s, v);
+        // bin 0 also covers [169, 180)
+        v_uint8x16 oh = (h >= v_setall_u8(edges[8])) & (h < h180) & v_setall_u8(1);
+        for (int k = 0; k < 8; ++k)
+        {
+            const v_uint8x16 in = (h >= v_setall_u8(edges[k])) & (h < v_setall_u8(edges[k + 1]));
+            oh |= in & v_setall_u8((uchar)(1 << k));
+        }
+        oh &= (s >= vs) & (v >= vv);
+        if (mask)
+            oh = v_select(v_load(mask + c) == z, z, oh);
+        v_store(dst + c, oh);
+    }
+#endif
+    for (; c < cols; ++c)
+    {
+        const uchar* p = hsv + 3 * c;
+        uchar q = 0;
+        if (p[0] < 180 && p[1] >= smin && p[2] >= vmin)
+            q = (uchar)(1 << hueBin(p[0]));
+        if (mask && !mask[c])
+            q = 0;
+        dst[c] = q;
+    }
+}
+
+void quantizeHueLevel(const Mat& src, const Mat& mask, const ModalityInfo& info, Mat& dst)
+{
+    CV_Assert(src.type() == CV_8UC3);
+    const int rows = src.rows, cols = src.cols;
+    dst.create(rows, cols, CV_8U);
+    const int smin = std::max(0, info.saturation_threshold);
+    const int vmin = std::max(0, info.value_threshold);
+    if (smin > 255 || vmin > 255) // no pixel passes
+    {
+        dst.setTo(Scalar::all(0));
+        return;
+    }
+    const int k = info.blur_size > 1 ? info.blur_size : 0;
+    const int block = 32;
+    const int nstripes = stripesFor(rows, cols, 32);
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        for (int a = range.start; a < range.end; a += block)
+        {
+            const int b = std::min(a + block, range.end);
+            Mat smoothed;
+            if (k > 0)
+            {
+                const int ga = std::max(a - k / 2, 0), gb = std::min(b + k / 2, rows);
+                Mat blurred = scratch(0, gb - ga, cols, CV_8UC3);
+                const uchar* data = blurred.data;
+                GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(k, k), 0, 0,
+                             BORDER_REPLICATE);
+                CV_Assert(blurred.data == data);
+                smoothed = blurred.rowRange(a - ga, b - ga);
+            }
+            else
+            {
+                smoothed = src.rowRange(a, b);
+            }
+            Mat hsv = scratch(1, b - a, cols, CV_8UC3);
+            const uchar* data = hsv.data;
+            cvtColor(smoothed, hsv, COLOR_BGR2HSV);
+            CV_Assert(hsv.data == data);
+            for (int r = a; r < b; ++r)
+                hueRow(hsv.ptr<uchar>(r - a), mask.empty() ? 0 : mask.ptr<uchar>(r), cols, smin,
+                       vmin, dst.ptr<uchar>(r));
+        }
+    }, nstripes);
+}
+
+// ------------------------------------------------------------------------------------------
+// DepthNormal (LINEMOD 2.6): per pixel at least 5 pixels inside the image border, a plane fit to
+// the 8 depths at +-5 pixels whose difference to the centre is below difference_threshold
+// (integer normal equations), the normal (1150 ddx, 1150 ddy, -det d) normalised in float and
+// mapped to a cell (i1, i2, i3) of a G x G x G grid, the cell's label from a table; pixels at
+// or beyond distance_threshold and degenerate normals get 0; then a 5x5 median. The next levels
+// are INTER_NEAREST reductions of the labels.
+//
+// The cell -> label table is data of cv::linemod, not part of its API: it is read out of the
+// installed cv::linemod::DepthNormal once, by quantizing planes of known normals
+// (normalLabelTable()). A pixel that falls into a cell the read-out did not reach makes the
+// fast path give up for that frame (the caller then uses the virtual calls), so the output is
+// exact either way.
+
+enum { NORMAL_G = 20, NORMAL_CELLS = NORMAL_G + 1, NORMAL_R = 5 };
+// beyond it 1150 * ddx can leave 32 bits in the vectorised path
+enum { NORMAL_MAX_DIFFERENCE = 240 };
+
+// The cell of one normal, as cv::linemod computes it (float arithmetic, truncation).
+static inline bool normalCell(int64 ddx, int64 ddy, int64 det, int64 d, int& i1, int& i2, int& i3)
+{
+    float nx = static_cast<float>(1150 * ddx);
+    float ny = static_cast<float>(1150 * ddy);
+    float nz = static_cast<float>(-det * d);
+    const float norm = std::sqrt(nx * nx + ny * ny + nz * nz);
+    if (!(norm > 0))
+        return false;
+    const float inv = 1.0f / norm;
+    nx *= inv;
+    ny *= inv;
+    nz *= inv;
+    const int half = NORMAL_G / 2;
+    i1 = static_cast<int>(nx * half + half);
+    i2 = static_cast<int>(ny * half + half);
+    i3 = static_cast<int>(nz * NORMAL_G + NORMAL_G);
+    return true;
+}
+
+// Plane fit to the 8 neighbours (depths v[k] at (i, j) = (-R,-R) (0,-R) (R,-R) (-R,0) (R,0)
+// (-R,R) (0,R) (R,R)) of a pixel of depth d: false when the pixel has no normal.
+static inline bool neighboursCell(int64 d, const int64* v, int distance_threshold,
+                                  int difference_threshold, int& i1, int& i2, int& i3)
+{
+    if (d >= distance_threshold)
+        return false;
+    int64 A0 = 0, A1 = 0, A3 = 0, b0 = 0, b1 = 0;
+    for (int k = 0; k < 8; ++k)
+    {
+        const int kk = k < 4 ? k : k + 1; // skip the centre of the 3x3 layout
+        const int64 i = (kk % 3 - 1) * NORMAL_R, j = (kk / 3 - 1) * NORMAL_R;
+        const int64 delta = v[k] - d;
+        if (!((delta < 0 ? -delta : delta) < difference_threshold))
+            continue;
+        A0 += i * i;
+        A1 += i * j;
+        A3 += j * j;
+        b0 += i * delta;
+        b1 += j * delta;
+    }
+    const int64 det = A0 * A3 - A1 * A1;
+    const int64 ddx = A3 * b0 - A1 * b1;
+    const int64 ddy = -A1 * b0 + A0 * b1;
+    return normalCell(ddx, ddy, det, d, i1, i2, i3);
+}
+
+// The same for a pixel of a CV_16U image (p points to it, step in elements).
+static inline bool pixelNormalCell(const ushort* p, size_t step, int distance_threshold,
+                                   int difference_threshold, int& i1, int& i2, int& i3)
+{
+    const ptrdiff_t s = (ptrdiff_t)step * NORMAL_R, R = NORMAL_R;
+    const int64 v[8] = { p[-s - R], p[-s], p[-s + R], p[-R], p[R], p[s - R], p[s], p[s + R] };
+    return neighboursCell(p[0], v, distance_threshold, difference_threshold, i1, i2, i3);
+}
+
+static inline int cellIndex(int i1, int i2, int i3)
+{
+    return (i3 * NORMAL_CELLS + i2) * NORMAL_CELLS + i1;
+}
+
+// A neighbourhood: the centre's depth and its 8 neighbours' (layout of neighboursCell()).
+struct NormalConfig
+{
+    int64 d;
+    int64 v[8];
+};
+
+enum { NORMAL_TABLE_SIZE = NORMAL_CELLS * NORMAL_CELLS * NORMAL_CELLS };
+// the read-out's thresholds: every depth counts as a pixel, every difference as a neighbour
+static const int PROBE_DISTANCE = 65536, PROBE_DIFFERENCE = 20000;
+
+class NormalLabelTable
+{
+public:
+    NormalLabelTable() : usable_(false)
+    {
+        for (int i = 0; i < NORMAL_TABLE_SIZE; ++i)
+            known_[i] = 0;
+        memset(label_, 0, sizeof(label_));
+    }
+
+    bool usable() const { return usable_; }
+
+    /** Label of a cell index; false when it is not known yet. */
+    bool lookup(int cell, uchar& label) const
+    {
+        if ((unsigned)cell >= (unsigned)NORMAL_TABLE_SIZE
+            || !known_[cell].load(std::memory_order_acquire))
+            return false;
+        label = label_[cell];
+        return true;
+    }
+
+    /** Reads the labels of the cells of these neighbourhoods (computed with the probe's
+    thresholds) out of cv::linemod::DepthNormal. False when its output contradicts the layout
+    this code assumes (then the fast path stays off). */
+    bool learn(const std::vector<NormalConfig>& configs);
+
+    void setUsable(bool u) { usable_ = u; }
+
+private:
+    bool usable_;
+    std::atomic<uchar> known_[NORMAL_TABLE_SIZE];
+    uchar label_[NORMAL_TABLE_SIZE];
+    std::mutex mutex_;
+};
+
+// Neighbourhoods quantized by cv::linemod::DepthNormal, one per 16 x 16 tile. In a tile, every
+// pixel within 7 of its centre is either in the 5x5 window around the centre (depth d) or the
+// neighbour at (i, j) of window pixels in one role only (depth v(i, j)): the 25 window pixels see
+// the same neighbourhood, have the same normal, and the 5x5 median at the centre keeps their
+// label. Cells of a coordinate 20 are beyond cv::linemod's table: it reads the bytes after it,
+// which are whatever they are but the same in every call; they are read out like the others.
+bool NormalLabelTable::learn(const std::vector<NormalConfig>& configs_in)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<NormalConfig> configs;
+    std::vector<int> cells;
+    std::vector<uchar> queued(NORMAL_TABLE_SIZE, 0);
+    for (size_t k = 0; k < configs_in.size(); ++k)
+    {
+        int i1, i2, i3;
+        if (!neighboursCell(configs_in[k].d, configs_in[k].v, PROBE_DISTANCE, PROBE_DIFFERENCE,
+                            i1, i2, i3))
+            continue;
+        const int cell = cellIndex(i1, i2, i3);
+        if (i1 < 0 || i1 >= NORMAL_CELLS || i2 < 0 || i2 >= NORMAL_CELLS || i3 < 0
+            || i3 >= NORMAL_CELLS || known_[cell].load(std::memory_order_relaxed) || queued[cell])
+            continue;
+        queued[cell] = 1;
+        configs.push_back(configs_in[k]);
+        cells.push_back(cell);
+    }
+    if (configs.empty())
+        return true;
+    const int TS = 16;
+    const int NT = (int)std::ceil(std::sqrt((double)configs.size()));
+    // one empty tile row and column at the end: LINEMOD leaves the last 6 rows / columns out
+    Mat depth((NT + 1) * TS, (NT + 1) * TS, CV_16U, Scalar(0));
+    for (size_t k = 0; k < configs.size(); ++k)
+    {
+        const NormalConfig& c = configs[k];
+        const int cy = (int)(k / NT) * TS + TS / 2, cx = (int)(k % NT) * TS + TS / 2;
+        for (int oy = -7; oy <= 7; ++oy)
+            for (int ox = -7; ox <= 7; ++ox)
+            {
+                const int i = ox >= 3 ? 1 : ox <= -3 ? -1 : 0;
+                const int j = oy >= 3 ? 1 : oy <= -3 ? -1 : 0;
+                int64 v = c.d;
+                if (i != 0 || j != 0)
+                {
+                    const int kk = (j + 1) * 3 + (i + 1);
+                    v = c.v[kk < 4 ? kk : kk - 1];
+                }
+                depth.at<ushort>(cy + oy, cx + ox) = (ushort)v;
+            }
+    }
+    Ptr<linemod::DepthNormal> probe
+        = makePtr<linemod::DepthNormal>(PROBE_DISTANCE, PROBE_DIFFERENCE, 63, 2);
+    Mat labels;
+    probe->process(depth, Mat())->quantize(labels);
+    for (size_t k = 0; k < configs.size(); ++k)
+    {
+        const int cy = (int)(k / NT) * TS + TS / 2, cx = (int)(k % NT) * TS + TS / 2;
+        // the tile really holds the configuration (checks the layout above)
+        int j1, j2, j3;
+        if (!pixelNormalCell(depth.ptr<ushort>(cy) + cx, depth.step1(), PROBE_DISTANCE,
+                             PROBE_DIFFERENCE, j1, j2, j3)
+            || cellIndex(j1, j2, j3) != cells[k])
+            return false;
+        label_[cells[k]] = labels.at<uchar>(cy, cx);
+        known_[cells[k]].store(1, std::memory_order_release);
+    }
+    return true;
+}
+
+// The same neighbourhood with the probe's thresholds: a neighbour the pixel's own threshold
+// leaves out is moved far away.
+static NormalConfig probeConfig(const ushort* p, size_t step, int difference_threshold)
+{
+    const ptrdiff_t s = (ptrdiff_t)step * NORMAL_R, R = NORMAL_R;
+    const ptrdiff_t offs[8] = { -s - R, -s, -s + R, -R, R, s - R, s, s + R };
+    NormalConfig c;
+    c.d = p[0];
+    for (int k = 0; k < 8; ++k)
+    {
+        const int64 v = p[offs[k]], delta = v - c.d;
+        if ((delta < 0 ? -delta : delta) < difference_threshold)
+            c.v[k] = v;
+        else
+            c.v[k] = c.d + PROBE_DIFFERENCE <= 65535 ? c.d + PROBE_DIFFERENCE
+                                                     : c.d - PROBE_DIFFERENCE;
+    }
+    return c;
+}
+
+// Initial read-out: random neighbourhoods (planes of random normals; random depths around
+// random centres, neighbours left out, holes) give the common cells; the rare ones are read out
+// when a frame meets them (depthNormalLevel0).
+static void readNormalLabels(NormalLabelTable& t)
+{
+    std::vector<NormalConfig> configs;
+    std::vector<uchar> seen(NORMAL_TABLE_SIZE, 0);
+    RNG rng(0x5eed);
+    for (int n = 0; n < 200000; ++n)
+    {
+        NormalConfig c;
+        const int kind = n % 3;
+        if (kind == 0)
+        {
+            const double phi = rng.uniform(0., 2 * CV_PI);
+            const double rho = std::sqrt(rng.uniform(0., 1.));
+            const double nx = rho * std::cos(phi), ny = rho * std::sin(phi);
+            const double nz = std::sqrt(std::max(1e-12, 1 - nx * nx - ny * ny));
+            c.d = rng.uniform(1, 60000);
+            const double a = nx / nz * (double)c.d / 1150., b = ny / nz * (double)c.d / 1150.;
+            if (std::abs(a) > 3000 || std::abs(b) > 3000)
+                continue;
+            const int64 ia = cvRound(a), ib = cvRound(b);
+            bool in_range = true;
+            for (int k = 0; k < 8; ++k)
+            {
+                const int kk = k < 4 ? k : k + 1;
+                c.v[k] = c.d + ia * (kk % 3 - 1) * NORMAL_R + ib * (kk / 3 - 1) * NORMAL_R;
+                in_range = in_range && c.v[k] >= 0 && c.v[k] <= 65535;
+            }
+            if (!in_range)
+                continue;
+        }
+        else
+        {
+            // like a depth camera: centre below 4 m (or a hole), small differences, some
+            // neighbours left out
+            c.d = kind == 1 ? rng.uniform(1, 4000) : rng.uniform(0, 100);
+            const int spread = 1 << rng.uniform(0, 9);
+            const int out_of = rng.uniform(2, 9);
+            for (int k = 0; k < 8; ++k)
+            {
+                int64 v = c.d + rng.uniform(-spread, spread + 1);
+                if (rng.uniform(0, out_of) == 0)
+                    v = c.d + PROBE_DIFFERENCE;
+                c.v[k] = std::min<int64>(65535, std::max<int64>(0, v));
+            }
+        }
+        int i1, i2, i3;
+        if (!neighboursCell(c.d, c.v, PROBE_DISTANCE, PROBE_DIFFERENCE, i1, i2, i3))
+            continue;
+        if (i1 < 0 || i1 >= NORMAL_CELLS || i2 < 0 || i2 >= NORMAL_CELLS || i3 < 0
+            || i3 >= NORMAL_CELLS || seen[cellIndex(i1, i2, i3)])
+            continue;
+        seen[cellIndex(i1, i2, i3)] = 1;
+        configs.push_back(c);
+    }
+    t.setUsable(t.learn(configs));
+}
+
+static NormalLabelTable& normalLabelTable()
+{
+    static NormalLabelTable table;
+    static std::once_flag once;
+    std::call_once(once, [] { readNormalLabels(table); });
+    return table;
+}
+
+bool depthNormalReady(const ModalityInfo& info)
+{
+    return info.kind == MODALITY_DEPTH_NORMAL && info.difference_threshold <= NORMAL_MAX_DIFFERENCE
+           && normalLabelTable().usable();
+}
+
+// Labels (before the median) of rows [a, b) of a CV_16U depth image; the pixels whose cell has
+// no known label yet are appended to `unknown` (label 0 for now).
+static void normalRows(const Mat& depth, const ModalityInfo& info, const NormalLabelTable& t,
+                       int a, int b, Mat& dst, std::vector<Point>& unknown)
+{
+    const int rows = depth.rows, cols = depth.cols, R = NORMAL_R;
+    const int x0 = R, x1 = cols - R - 1; // LINEMOD's loop bounds
+    const size_t step = depth.step1();
+    const int dist = info.distance_threshold, diff = info.difference_threshold;
+    for (int y = a; y < b; ++y)
+    {
+        uchar* out = dst.ptr<uchar>(y);
+        if (y < R || y >= rows - R - 1 || x1 <= x0)
+        {
+            memset(out, 0, cols);
+            continue;
+        }
+        memset(out, 0, x0);
+        memset(out + x1, 0, cols - x1);
+        const ushort* row = depth.ptr<ushort>(y);
+        int x = x0;
+#if CV_SIMD128
+        // 8 pixels at a time in 16 bits (differences that count are below 240, counts and sums
+        // stay below 2^15), products in 32 bits, the normal in float as cv::linemod
+        const v_uint16x8 vdiff = v_setall_u16((ushort)diff);
+        const v_uint16x8 vdist = v_setall_u16((ushort)std::min(dist, 65535));
+        const bool all_near = dist > 65535;
+        const v_int16x8 z16 = v_setzero_s16();
+        const v_int32x4 z = v_setzero_s32();
+        const v_float32x4 half = v_setall_f32((float)(NORMAL_G / 2));
+        const v_float32x4 g = v_setall_f32((float)NORMAL_G), fone = v_setall_f32(1.f);
+        const v_float32x4 fz = v_setzero_f32();
+        const v_int32x4 cells = v_setall_s32(NORMAL_CELLS), k1150 = v_setall_s32(1150);
+        const ptrdiff_t up = -(ptrdiff_t)(R * step), dn = (ptrdiff_t)(R * step);
+        const ptrdiff_t offs[8] = { up - R, up, up + R, -R, R, dn - R, dn, dn + R };
+        for (; x <= x1 - 8; x += 8)
+        {
+            const ushort* p = row + x;
+            const v_uint16x8 d = v_load(p);
+            // the 8 neighbours: f (0 / -1) where |depth difference| < threshold, fd = f delta
+            v_int16x8 f[8], fd[8];
+            for (int k = 0; k < 8; ++k)
+            {
+                const v_uint16x8 nb = v_load(p + offs[k]);
+                const v_uint16x8 pos = nb - d, neg = d - nb; // saturating
+                f[k] = v_reinterpret_as_s16((pos | neg) < vdiff);
+                fd[k] = f[k] & v_sub_wrap(v_reinterpret_as_s16(pos), v_reinterpret_as_s16(neg));
+            }
+            // neighbours: 0 (-R,-R) 1 (0,-R) 2 (R,-R) 3 (-R,0) 4 (R,0) 5 (-R,R) 6 (0,R) 7 (R,R)
+            const v_int16x8 nx_count = z16 - (f[0] + f[3] + f[5] + f[2] + f[4] + f[7]);
+            const v_int16x8 ny_count = z16 - (f[0] + f[1] + f[2] + f[5] + f[6] + f[7]);
+            const v_int16x8 A0 = v_mul_wrap(v_setall_s16(R * R), nx_count);
+            const v_int16x8 A3 = v_mul_wrap(v_setall_s16(R * R), ny_count);
+            const v_int16x8 A1 = v_mul_wrap(v_setall_s16(R * R), (f[2] + f[5]) - (f[0] + f[7]));
+            const v_int16x8 b0
+                = v_mul_wrap(v_setall_s16(R), (fd[2] + fd[4] + fd[7]) - (fd[0] + fd[3] + fd[5]));
+            const v_int16x8 b1
+                = v_mul_wrap(v_setall_s16(R), (fd[5] + fd[6] + fd[7]) - (fd[0] + fd[1] + fd[2]));
+            const v_int16x8 det = v_sub_wrap(v_mul_wrap(A0, A3), v_mul_wrap(A1, A1)); // <= 22500
+            v_int32x4 p0, p1, q0, q1;
+            v_mul_expand(A3, b0, p0, p1);
+            v_mul_expand(A1, b1, q0, q1);
+            const v_int32x4 ddx0 = p0 - q0, ddx1 = p1 - q1;
+            v_mul_expand(A0, b1, p0, p1);
+            v_mul_expand(A1, b0, q0, q1);
+            const v_int32x4 ddy0 = p0 - q0, ddy1 = p1 - q1;
+            v_uint32x4 dd0, dd1; // det * d < 22500 * 65536
+            v_mul_expand(v_reinterpret_as_u16(det), d, dd0, dd1);
+            v_uint16x8 valid16 = all_near ? v_setall_u16(0xffff) : (d < vdist);
+            v_int32x4 valid0, valid1; // sign-extended: all ones stay all ones
+            v_expand(v_reinterpret_as_s16(valid16), valid0, valid1);
+            int ids[8];
+            for (int h = 0; h < 2; ++h)
+            {
+                v_float32x4 nx = v_cvt_f32(k1150 * (h ? ddx1 : ddx0));
+                v_float32x4 ny = v_cvt_f32(k1150 * (h ? ddy1 : ddy0));
+                v_float32x4 nzv = v_cvt_f32(z - v_reinterpret_as_s32(h ? dd1 : dd0));
+                const v_float32x4 norm = v_sqrt(nx * nx + ny * ny + nzv * nzv);
+                const v_float32x4 ok
+                    = (norm > fz) & v_reinterpret_as_f32(h ? valid1 : valid0);
+                const v_float32x4 inv = fone / v_select(ok, norm, fone);
+                nx = nx * inv;
+                ny = ny * inv;
+                nzv = nzv * inv;
+                const v_int32x4 i1 = v_trunc(nx * half + half);
+                const v_int32x4 i2 = v_trunc(ny * half + half);
+                const v_int32x4 i3 = v_trunc(nzv * g + g);
+                v_int32x4 idx = (i3 * cells + i2) * cells + i1;
+                idx = v_select(v_reinterpret_as_s32(ok), idx, v_setall_s32(-1));
+                v_store(ids + 4 * h, idx);
+            }
+            for (int k = 0; k < 8; ++k)
+            {
+                uchar v = 0;
+                if (ids[k] >= 0 && !t.lookup(ids[k], v))
+                    unknown.push_back(Point(x + k, y));
+                out[x + k] = v;
+            }
+        }
+#endif
+        for (; x < x1; ++x)
+        {
+            int i1, i2, i3;
+            uchar v = 0;
+            if (pixelNormalCell(row + x, step, dist, diff, i1, i2, i3))
+            {
+                const bool in_grid = i1 >= 0 && i2 >= 0 && i3 >= 0 && i1 < NORMAL_CELLS
+                                     && i2 < NORMAL_CELLS && i3 < NORMAL_CELLS;
+                if (!in_grid || !t.lookup(cellIndex(i1, i2, i3), v))
+                    unknown.push_back(Point(x, y));
+            }
+            out[x] = v;
+        }
+    }
+}
+
+// Level 0 of DepthNormal without its mask; false when cv::linemod contradicted the read-out.
+static bool depthNormalLevel0(const Mat& depth, const ModalityInfo& info, Mat& labels)
+{
+    NormalLabelTable& t = normalLabelTable();
+    const int rows = depth.rows, cols = depth.cols;
+    Mat raw(rows, cols, CV_8U);
+    std::vector<Point> unknown;
+    std::mutex unknown_mutex;
+    const int nstripes = stripesFor(rows, cols, 32);
+    parallel_for_(Range(0, rows), [&](const Range& r) {
+        std::vector<Point> mine;
+        normalRows(depth, info, t, r.start, r.end, raw, mine);
+        if (!mine.empty())
+        {
+            std::lock_guard<std::mutex> lock(unknown_mutex);
+            unknown.insert(unknown.end(), mine.begin(), mine.end());
+        }
+    }, nstripes);
+    if (!unknown.empty())
+    {
+        // cells the read-out has not met yet: read them out now, then label those pixels
+        std::vector<NormalConfig> configs;
+        configs.reserve(unknown.size());
+        for (size_t k = 0; k < unknown.size(); ++k)
+            configs.push_back(probeConfig(depth.ptr<ushort>(unknown[k].y) + unknown[k].x,
+                                          depth.step1(), info.difference_threshold));
+        if (!t.learn(configs))
+            return false;
+        for (size_t k = 0; k < unknown.size(); ++k)
+        {
+            int i1, i2, i3;
+            uchar v = 0;
+            if (!neighboursCell(configs[k].d, configs[k].v, PROBE_DISTANCE, PROBE_DIFFERENCE, i1,
+                                i2, i3)
+                || !t.lookup(cellIndex(i1, i2, i3), v))
+                return false;
+            raw.at<uchar>(unknown[k]) = v;
+        }
+    }
+    // LINEMOD's 5x5 median, in stripes of whole rows (each an image of its own: the same code
+    // on every pixel as on the whole image)
+    labels.create(rows, cols, CV_8U);
+    parallel_for_(Range(0, rows), [&](const Range& r) {
+        const int ga = std::max(r.start - 2, 0), gb = std::min(r.end + 2, rows);
+        Mat part;
+        medianBlur(rowsAsImage(raw, ga, gb), part, 5);
+        part.rowRange(r.start - ga, r.end - ga).copyTo(labels.rowRange(r.start, r.end));
+    }, nstripes);
+    return true;
+}
+
+void checkInputs(const ModalityInfo& info, const Mat& src, const Mat& mask)
+{
+    if (src.empty())
+        CV_Error(Error::StsBadArg, "fastQuantize: the source image is empty");
+    if (info.kind == MODALITY_COLOR_GRADIENT || info.kind == MODALITY_COLOR_HUE)
+    {
+        if (src.type() != CV_8UC3)
+            CV_Error_(Error::StsUnsupportedFormat,
+                      ("fastQuantize: a colour modality needs a CV_8UC3 image, got %s",
+                       typeToString(src.type()).c_str()));
+    }
+    if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != src.size()))
+        CV_Error_(Error::StsBadArg,
+                  ("fastQuantize: the mask must be CV_8UC1 of the image's size %dx%d, got %s %dx%d",
+                   src.cols, src.rows, typeToString(mask.type()).c_str(), mask.cols, mask.rows));
+}
+
+void quantizeLevel(const ModalityInfo& info, const Mat& src, const Mat& mask, Mat& dst)
+{
+    if (info.kind == MODALITY_COLOR_GRADIENT)
+        quantizeGradientLevel(src, mask, info.weak_threshold, dst);
+    else
+        quantizeHueLevel(src, mask, info, dst);
+}
+
+// The next level of an image (the modalities' pyrDown) or of a mask (INTER_NEAREST).
+// `down`, when given, is reused when its size fits (pyramids of the calling thread, kept between
+// frames).
+Mat nextImage(const Mat& img, Mat* down = 0)
+{
+    Mat local;
+    Mat& out = down ? *down : local;
+    pyrDown(img, out, Size(img.cols / 2, img.rows / 2));
+    return out;
+}
+
+Mat nextMask(const Mat& mask, Mat* down = 0)
+{
+    if (mask.empty())
+        return Mat();
+    Mat local;
+    Mat& out = down ? *down : local;
+    resize(mask, out, Size(mask.cols / 2, mask.rows / 2), 0.0, 0.0, INTER_NEAREST);
+    return out;
+}
+
+// A buffer of the calling thread for level l of pyramid j, kept between calls.
+Mat* pyramidBuffer(int kind, size_t j, int l)
+{
+    static thread_local std::vector<std::vector<Mat> > buffers[2];
+    std::vector<std::vector<Mat> >& b = buffers[kind];
+    if (b.size() <= j)
+        b.resize(j + 1);
+    if ((int)b[j].size() <= l)
+        b[j].resize(l + 1);
+    return &b[j][l];
+}
+
+bool sameData(const Mat& a, const Mat& b)
+{
+    return a.data == b.data && a.size() == b.size() && a.type() == b.type() && a.step == b.step;
+}
+
+// What QuantizedPyramid::quantize gives: the labels where the mask is set (all without mask).
+void applyMask(const Mat& labels, const Mat& mask, Mat& dst)
+{
+    if (mask.empty())
+    {
+        labels.copyTo(dst);
+        return;
+    }
+    dst = Mat::zeros(labels.size(), CV_8U);
+    labels.copyTo(dst, mask);
+}
+
+// DepthNormal: level 0 from the depth, the others INTER_NEAREST of the labels (not of the depth).
+bool depthNormalLevels(const ModalityInfo& info, const Mat& depth, const Mat& mask, int levels,
+                       std::vector<Mat>& quantized)
+{
+    if (depth.type() != CV_16UC1)
+        return false; // what cv::linemod does with other types is its own business
+    // cv::linemod reads the depth as a continuous array of rows x cols from its first pixel
+    // (rows of a ROI of a wider image are then not the ROI's rows): the same here
+    const Mat flat(depth.rows, depth.cols, CV_16U, const_cast<uchar*>(depth.data));
+    Mat labels;
+    if (!depthNormalLevel0(flat, info, labels))
+        return false;
+    quantized.resize(levels);
+    Mat m = mask;
+    for (int l = 0; l < levels; ++l)
+    {
+        if (l > 0)
+        {
+            labels = nextMask(labels);
+            m = nextMask(m);
+        }
+        applyMask(labels, m, quantized[l]);
+    }
+    return true;
+}
+
+} // namespace
+
+bool hasFastPath(const ModalityInfo& info)
+{
+    return info.kind == MODALITY_COLOR_GRADIENT || info.kind == MODALITY_COLOR_HUE
+           || depthNormalReady(info);
+}
+
+bool fastQuantize(const ModalityInfo& info, const Mat& src, const Mat& mask, int levels,
+                  std::vector<Mat>& quantized)
+{
+    if (!hasFastPath(info))
+        return false;
+    CV_Assert(levels >= 1);
+    checkInputs(info, src, mask);
+    if (info.kind == MODALITY_DEPTH_NORMAL)
+        return depthNormalLevels(info, src, mask, levels, quantized);
+    quantized.resize(levels);
+    Mat img = src, m = mask;
+    for (int l = 0; l < levels; ++l)
+    {
+        if (l > 0)
+        {
+            img = nextImage(img);
+            m = nextMask(m);
+        }
+        quantizeLevel(info, img, m, quantized[l]);
+    }
+    return true;
+}
+
+bool fastQuantize(const Ptr<Modality>& modality, const Mat& src, const Mat& mask, int levels,
+                  std::vector<Mat>& quantized)
+{
+    return fastQuantize(classifyModality(modality), src, mask, levels, quantized);
+}
+
+void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
+                       const std::vector<ModalityInfo>& infos_in, const std::vector<Mat>& sources,
+                       const std::vector<Mat>& masks, int levels,
+                       std::vector<std::vector<Mat> >& quantized)
+{
+    const int M = (int)modalities.size();
+    CV_Assert(levels >= 1 && (int)sources.size() == M);
+    CV_Assert(masks.empty() || (int)masks.size() == M);
+    CV_Assert(infos_in.empty() || (int)infos_in.size() == M);
+    std::vector<ModalityInfo> infos = infos_in;
+    if (infos.empty())
+    {
+        infos.resize(M);
+        for (int i = 0; i < M; ++i)
+            infos[i] = classifyModality(modalities[i]);
+    }
+    // the caller's Mats are written in place when their size fits (as OpenCV's outputs)
+    quantized.resize(levels);
+    for (int l = 0; l < levels; ++l)
+        quantized[l].resize(M);
+
+    // pyramids of the images and masks, shared by the modalities given the same data
+    std::vector<int> img_of(M, -1), mask_of(M, -1);
+    std::vector<std::vector<Mat> > imgs, msks;
+    for (int i = 0; i < M; ++i)
+    {
+        if (infos[i].kind == MODALITY_DEPTH_NORMAL && hasFastPath(infos[i]))
+        {
+            std::vector<Mat> q;
+            if (fastQuantize(infos[i], sources[i], masks.empty() ? Mat() : masks[i], levels, q))
+            {
+                for (int l = 0; l < levels; ++l)
+                    quantized[l][i] = q[l];
+                continue;
+            }
+        }
+        if (!hasFastPath(infos[i]) || infos[i].kind == MODALITY_DEPTH_NORMAL)
+        {
+            Ptr<linemod::QuantizedPyramid> qp
+                = modalities[i]->process(sources[i], masks.empty() ? Mat() : masks[i]);
+            for (int l = 0; l < levels; ++l)
+            {
+                if (l > 0)
+                    qp->pyrDown();
+                qp->quantize(quantized[l][i]);
+            }
+            continue;
+        }
+        const Mat mask = masks.empty() ? Mat() : masks[i];
+        checkInputs(infos[i], sources[i], mask);
+        for (int j = 0; j < (int)imgs.size() && img_of[i] < 0; ++j)
+            if (sameData(imgs[j][0], sources[i]))
+                img_of[i] = j;
+        if (img_of[i] < 0)
+        {
+            img_of[i] = (int)imgs.size();
+            imgs.push_back(std::vector<Mat>(1, sources[i]));
+        }
+        for (int j = 0; j < (int)msks.size() && mask_of[i] < 0; ++j)
+            if (sameData(msks[j][0], mask))
+                mask_of[i] = j;
+        if (mask_of[i] < 0)
+        {
+            mask_of[i] = (int)msks.size();
+            msks.push_back(std::vector<Mat>(1, mask));
+        }
+    }
+    for (int l = 0; l < levels; ++l)
+    {
+        if (l > 0)
+        {
+            for (size_t j = 0; j < imgs.size(); ++j)
+                imgs[j].push_back(nextImage(imgs[j][l - 1], pyramidBuffer(0, j, l)));
+            for (size_t j = 0; j < msks.size(); ++j)
+                msks[j].push_back(nextMask(msks[j][l - 1], pyramidBuffer(1, j, l)));
+        }
+        for (int i = 0; i < M; ++i)
+            if (img_of[i] >= 0)
+                quantizeLevel(infos[i], imgs[img_of[i]][l], msks[mask_of[i]][l],
+                              quantized[l][i]);
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// Spreading and response maps
+
+void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad)
+{
+    CV_Assert(src.type() == CV_8UC1 && T > 0 && pad >= 0);
+    const int srows = src.rows, scols = src.cols;
+    const int rows = srows + pad, cols = scols + pad;
+    dst.create(rows, cols, CV_8U);
+    const int nstripes = stripesFor(rows, cols, 32);
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        // OR along rows for the source rows this stripe reads, then along columns
+        const int h0 = std::min(range.start, srows);
+        const int h1 = std::min(range.end + T - 1, srows);
+        Mat horiz(std::max(h1 - h0, 1), cols, CV_8U);
+        std::vector<uchar> line(cols + T + 16, 0);
+        for (int r = h0; r < h1; ++r)
+        {
+            memcpy(&line[0], src.ptr<uchar>(r), scols);
+            const uchar* s = &line[0];
+            uchar* d = horiz.ptr<uchar>(r - h0);
+            int c = 0;
+#if CV_SIMD128
+            for (; c <= cols - 16; c += 16)
+            {
+                v_uint8x16 acc = v_load(s + c);
+                for (int k = 1; k < T; ++k)
+                    acc |= v_load(s + c + k);
+                v_store(d + c, acc);
+            }
+#endif
+            for (; c < cols; ++c)
+            {
+                uchar acc = 0;
+                for (int k = 0; k < T; ++k)
+                    acc |= s[c + k];
+                d[c] = acc;
+            }
+        }
+        for (int r = range.start; r < range.end; ++r)
+        {
+            uchar* d = dst.ptr<uchar>(r);
+            const int n = std::min(T, srows - r); // source rows [r, r + n)
+            if (n <= 0)
+            {
+                memset(d, 0, cols);
+                continue;
+            }
+            const uchar* first = horiz.ptr<uchar>(r - h0);
+            const size_t step = horiz.step;
+            int c = 0;
+#if CV_SIMD128
+            for (; c <= cols - 16; c += 16)
+            {
+                v_uint8x16 acc = v_load(first + c);
+                for (int k = 1; k < n; ++k)
+                    acc |= v_load(first + k * step + c);
+                v_store(d + c, acc);
+            }
+#endif
+            for (; c < cols; ++c)
+            {
+                uchar acc = 0;
+                for (int k = 0; k < n; ++k)
+                    acc |= first[k * step + c];
+                d[c] = acc;
+            }
+        }
+    }, nstripes);
+}
+
+void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response)
+{
+    CV_Assert(spread.type() == CV_8UC1);
+    response.resize(8);
+    for (int o = 0; o < 8; ++o)
+        response[o].create(spread.size(), CV_8U);
+    // response[o] = 4 - (circular distance from o to the nearest label present), 0 beyond 3:
+    // the number of the nested label sets {o}, {o, o+-1}, {o..o+-2}, {o..o+-3} that meet the pixel
+    uchar within[8][4];
+    for (int o = 0; o < 8; ++o)
+    {
+        uchar m = 0;
+        for (int d = 0; d < 4; ++d)
+        {
+            m |= (uchar)((1 << ((o + d) & 7)) | (1 << ((o - d + 8) & 7)));
+            within[o][d] = m;
+        }
+    }
+    uchar lut[8][256]; // the same, for the scalar path
+    for (int o = 0; o < 8; ++o)
+        for (int x = 0; x < 256; ++x)
+        {
+            int v = 0;
+            for (int d = 0; d < 4; ++d)
+                v += (x & within[o][d]) ? 1 : 0;
+            lut[o][x] = (uchar)v;
+        }
+    const int rows = spread.rows, cols = spread.cols;
+    const int nstripes = stripesFor(rows, cols, 32);
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        for (int r = range.start; r < range.end; ++r)
+        {
+            const uchar* s = spread.ptr<uchar>(r);
+            uchar* d[8];
+            for (int o = 0; o < 8; ++o)
+                d[o] = response[o].ptr<uchar>(r);
+            int c = 0;
+#if CV_SIMD128
+            const v_uint8x16 z = v_setzero_u8(), four = v_setall_u8(4);
+            for (; c <= cols - 16; c += 16)
+            {
+                const v_uint8x16 x = v_load(s + c);
+                for (int o = 0; o < 8; ++o)
+                {
+                    // each empty set adds 0xFF (-1)
+                    v_uint8x16 v = v_add_wrap(four, (x & v_setall_u8(within[o][0])) == z);
+                    v = v_add_wrap(v, (x & v_setall_u8(within[o][1])) == z);
+                    v = v_add_wrap(v, (x & v_setall_u8(within[o][2])) == z);
+                    v = v_add_wrap(v, (x & v_setall_u8(within[o][3])) == z);
+                    v_store(d[o] + c, v);
+                }
+            }
+#endif
+            for (; c < cols; ++c)
+                for (int o = 0; o < 8; ++o)
+                    d[o][c] = lut[o][s[c]];
+        }
+    }, nstripes);
+}
+
+void spreadLabelsReference(const Mat& src, Mat& dst, int T, int pad)
+{
+    spreadLabels(src, dst, T, pad);
+}
+
+void computeResponseMapsReference(const Mat& spread, std::vector<Mat>& response)
+{
+    computeResponseMaps(spread, response);
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv

@@ -1,0 +1,91 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: bit-exact fast quantization of the standard modalities (cv::linemod::ColorGradient,
+// cv::linemod::DepthNormal, forestmod::ColorHue) at every pyramid level, and vectorised spreading
+// and response maps. "Bit-exact" means: equal, pixel for pixel, to what the modality's own
+// process() + pyrDown() + quantize() give (test/test_quantize_fast.cpp). The functions are
+// exported (CV_EXPORTS) for the tests and perf tests only; the header is not installed.
+
+#ifndef OPENCV_FORESTMOD_QUANTIZE_FAST_HPP
+#define OPENCV_FORESTMOD_QUANTIZE_FAST_HPP
+
+#include "opencv2/core.hpp"
+#include "opencv2/rgbd/linemod.hpp"
+
+#include <vector>
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+enum ModalityKind
+{
+    MODALITY_OTHER = 0,          //!< unknown: use the modality's own virtual calls
+    MODALITY_COLOR_GRADIENT = 1, //!< exactly cv::linemod::ColorGradient (not a subclass)
+    MODALITY_DEPTH_NORMAL = 2,   //!< exactly cv::linemod::DepthNormal (not a subclass)
+    MODALITY_COLOR_HUE = 3       //!< exactly cv::forestmod::ColorHue (not a subclass)
+};
+
+/** What the fast paths need to know of a modality, read once (classifyModality()). */
+struct ModalityInfo
+{
+    ModalityInfo()
+        : kind(MODALITY_OTHER), weak_threshold(0.f), distance_threshold(0),
+          difference_threshold(0), saturation_threshold(0), value_threshold(0), blur_size(0)
+    {
+    }
+    ModalityKind kind;
+    float weak_threshold;     //!< ColorGradient
+    int distance_threshold;   //!< DepthNormal
+    int difference_threshold; //!< DepthNormal
+    int saturation_threshold; //!< ColorHue
+    int value_threshold;      //!< ColorHue
+    int blur_size;            //!< ColorHue
+};
+
+/** Recognises a modality by its dynamic type (a subclass is MODALITY_OTHER: it may override
+processImpl) and reads its parameters. Call it again after changing the modality's parameters. */
+CV_EXPORTS ModalityInfo classifyModality(const Ptr<cv::linemod::Modality>& modality);
+
+/** True when fastQuantize() computes this kind itself. */
+CV_EXPORTS bool hasFastPath(const ModalityInfo& info);
+
+/** Quantized images of levels 0 .. levels-1 of one modality, equal to
+`p = modality->process(src, mask); p->quantize(q0); p->pyrDown(); p->quantize(q1); ...`.
+Returns false (and leaves `quantized` untouched) when the modality has no fast path; the caller
+then uses the virtual calls. */
+CV_EXPORTS bool fastQuantize(const ModalityInfo& info, const Mat& src, const Mat& mask, int levels,
+                  std::vector<Mat>& quantized);
+/** Same, classifying the modality first. */
+CV_EXPORTS bool fastQuantize(const Ptr<cv::linemod::Modality>& modality, const Mat& src, const Mat& mask,
+                  int levels, std::vector<Mat>& quantized);
+
+/** Every modality at every level: quantized[l][i] for level l, modality i. Modalities with a
+fast path share the pyramids (pyrDown of the source, INTER_NEAREST of the mask) when they are
+given the same source or mask (same data); the others go through their virtual calls.
+`infos` may be empty (then classified here); masks may be empty or hold empty Mats.
+The Mats already in `quantized` are written in place when their size and type fit (as OpenCV's
+outputs; no page faults for a new frame of the same size): pass a fresh vector to keep the
+previous frame's images. The pyramids themselves live in buffers of the calling thread. */
+CV_EXPORTS void quantizeAllLevels(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
+                       const std::vector<ModalityInfo>& infos, const std::vector<Mat>& sources,
+                       const std::vector<Mat>& masks, int levels,
+                       std::vector<std::vector<Mat> >& quantized);
+
+/** Vectorised, parallel detail::spreadLabels(): same signature, same output. */
+CV_EXPORTS void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad);
+/** Vectorised, parallel detail::computeResponseMaps(): same signature, same output. */
+CV_EXPORTS void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response);
+
+/** detail::spreadLabels() and detail::computeResponseMaps() (validator.cpp), exported for the
+tests and the perf tests that compare the fast versions with them. */
+CV_EXPORTS void spreadLabelsReference(const Mat& src, Mat& dst, int T, int pad);
+CV_EXPORTS void computeResponseMapsReference(const Mat& spread, std::vector<Mat>& response);
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif

@@ -1,0 +1,538 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The fast quantization (src/quantize_fast.*) against the modalities' own virtual calls, and the
+// fast spreading / response maps against detail::spreadLabels / computeResponseMaps.
+
+#include "test_precomp.hpp"
+#include "../src/quantize_fast.hpp"
+
+namespace opencv_test { namespace {
+
+using cv::forestmod::detail::ModalityInfo;
+
+// What the detector computed before the fast paths: process + (pyrDown + quantize) per level.
+static std::vector<Mat> referenceLevels(const Ptr<linemod::Modality>& m, const Mat& src,
+                                        const Mat& mask, int levels)
+{
+    std::vector<Mat> out(levels);
+    Ptr<linemod::QuantizedPyramid> qp = m->process(src, mask);
+    for (int l = 0; l < levels; ++l)
+    {
+        if (l > 0)
+            qp->pyrDown();
+        qp->quantize(out[l]);
+    }
+    return out;
+}
+
+// Number of differing pixels (sizes and types must agree).
+static int differences(const Mat& a, const Mat& b)
+{
+    if (a.size() != b.size() || a.type() != b.type())
+        return -1;
+    Mat ne;
+    cv::compare(a, b, ne, CMP_NE);
+    return countNonZero(ne);
+}
+
+static void expectSameLevels(const Ptr<linemod::Modality>& m, const Mat& src, const Mat& mask,
+                             int levels, const std::string& what, int min_labelled = 50)
+{
+    const std::vector<Mat> ref = referenceLevels(m, src, mask, levels);
+    std::vector<Mat> fast;
+    ASSERT_TRUE(cv::forestmod::detail::fastQuantize(m, src, mask, levels, fast)) << what;
+    ASSERT_EQ((size_t)levels, fast.size()) << what;
+    for (int l = 0; l < levels; ++l)
+    {
+        ASSERT_EQ(CV_8UC1, fast[l].type()) << what << " level " << l;
+        ASSERT_EQ(ref[l].size(), fast[l].size()) << what << " level " << l;
+        EXPECT_EQ(0, differences(ref[l], fast[l])) << what << " level " << l << " of " << levels
+                                                   << ", " << m->name() << ", size "
+                                                   << fast[l].size();
+        // the comparison means something only where the images hold labels
+        if (l == 0)
+        {
+            EXPECT_GE(countNonZero(ref[l]), min_labelled) << what << ", " << m->name();
+        }
+    }
+}
+
+static std::vector<Ptr<linemod::Modality> > colourModalities()
+{
+    std::vector<Ptr<linemod::Modality> > ms;
+    ms.push_back(linemod::Modality::create("ColorGradient"));
+    ms.push_back(ColorHue::create());
+    Ptr<linemod::ColorGradient> strong = makePtr<linemod::ColorGradient>(30.f, 63, 55.f);
+    ms.push_back(strong);
+    ColorHue::Params hp;
+    hp.blur_size = 0;
+    hp.saturation_threshold = 20;
+    hp.value_threshold = 10;
+    ms.push_back(ColorHue::create(hp));
+    hp.blur_size = 5;
+    ms.push_back(ColorHue::create(hp));
+    return ms;
+}
+
+// An object-like mask: an ellipse and a rectangle with ragged borders.
+static Mat someMask(Size size, uint64 seed)
+{
+    RNG rng(seed);
+    Mat mask = Mat::zeros(size, CV_8U);
+    ellipse(mask, Point(size.width / 3, size.height / 2), Size(size.width / 4, size.height / 3),
+            rng.uniform(0., 180.), 0, 360, Scalar(255), FILLED);
+    rectangle(mask, Rect(size.width / 2, size.height / 4, size.width / 3, size.height / 3),
+              Scalar(7), FILLED);
+    Mat noise(size, CV_8U);
+    rng.fill(noise, RNG::UNIFORM, 0, 20);
+    mask.setTo(0, noise == 0);
+    return mask;
+}
+
+// A random image with edges of every orientation and saturated colours.
+static Mat randomScene(Size size, uint64 seed)
+{
+    RNG rng(seed);
+    Mat img(size, CV_8UC3);
+    rng.fill(img, RNG::UNIFORM, 0, 256);
+    GaussianBlur(img, img, Size(0, 0), 1.5);
+    for (int i = 0; i < 12; ++i)
+    {
+        const Point c(rng.uniform(0, size.width), rng.uniform(0, size.height));
+        const Scalar col(rng.uniform(0, 256), rng.uniform(0, 256), rng.uniform(0, 256));
+        if (i % 2)
+            circle(img, c, rng.uniform(3, std::max(4, size.width / 4)), col, FILLED);
+        else
+            fillConvexPoly(img, std::vector<Point>{c, c + Point(rng.uniform(-60, 60), 30),
+                                                   c + Point(40, rng.uniform(-60, 60))},
+                           col);
+    }
+    return img;
+}
+
+static std::vector<std::string> shippedFrames()
+{
+    const std::string dir = cvtest::findDataDirectory("lmo_mini/test/000002/rgb", false);
+    std::vector<String> files;
+    glob(dir + "/*.png", files);
+    return std::vector<std::string>(files.begin(), files.end());
+}
+
+TEST(Forestmod_QuantizeFast, classifies_modalities)
+{
+    using namespace cv::forestmod::detail;
+    Ptr<linemod::ColorGradient> g = makePtr<linemod::ColorGradient>(12.5f, 40, 60.f);
+    ModalityInfo gi = classifyModality(g);
+    EXPECT_EQ(MODALITY_COLOR_GRADIENT, gi.kind);
+    EXPECT_EQ(12.5f, gi.weak_threshold);
+    EXPECT_TRUE(hasFastPath(gi));
+    ModalityInfo di = classifyModality(makePtr<linemod::DepthNormal>(1500, 40, 63, 2));
+    EXPECT_EQ(MODALITY_DEPTH_NORMAL, di.kind);
+    EXPECT_EQ(1500, di.distance_threshold);
+    EXPECT_EQ(40, di.difference_threshold);
+    ColorHue::Params hp;
+    hp.saturation_threshold = 33;
+    ModalityInfo hi = classifyModality(ColorHue::create(hp));
+    EXPECT_EQ(MODALITY_COLOR_HUE, hi.kind);
+    EXPECT_EQ(33, hi.saturation_threshold);
+    // a subclass may override processImpl: it keeps its virtual calls
+    struct MyGradient : public linemod::ColorGradient
+    {
+    };
+    ModalityInfo si = classifyModality(makePtr<MyGradient>());
+    EXPECT_EQ(MODALITY_OTHER, si.kind);
+    EXPECT_FALSE(hasFastPath(si));
+    std::vector<Mat> q;
+    EXPECT_FALSE(fastQuantize(si, Mat(10, 10, CV_8UC3, Scalar::all(0)), Mat(), 2, q));
+    EXPECT_TRUE(q.empty());
+    EXPECT_EQ(MODALITY_OTHER, classifyModality(Ptr<linemod::Modality>()).kind);
+}
+
+TEST(Forestmod_QuantizeFast, shipped_frames_all_levels)
+{
+    const std::vector<std::string> files = shippedFrames();
+    ASSERT_FALSE(files.empty());
+    const std::vector<Ptr<linemod::Modality> > ms = colourModalities();
+    for (size_t f = 0; f < files.size(); ++f)
+    {
+        const Mat img = imread(files[f], IMREAD_COLOR);
+        ASSERT_FALSE(img.empty()) << files[f];
+        const Mat mask = someMask(img.size(), f + 1);
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            for (int levels = 2; levels <= 4; levels += 2)
+            {
+                expectSameLevels(ms[i], img, Mat(), levels, files[f]);
+                expectSameLevels(ms[i], img, mask, levels, files[f] + " masked");
+            }
+        }
+    }
+}
+
+TEST(Forestmod_QuantizeFast, real_rgbd_colour_frames)
+{
+    const std::string shared = sharedDataPath();
+    if (shared.empty() || !utils::fs::exists(shared + "/real_rgbd"))
+        throw SkipTestException("FORESTMOD_SHARED_DATA/real_rgbd is not available");
+    std::vector<String> files;
+    glob(shared + "/real_rgbd/*_rgb.png", files);
+    if (files.empty())
+        throw SkipTestException("no *_rgb.png in FORESTMOD_SHARED_DATA/real_rgbd");
+    const std::vector<Ptr<linemod::Modality> > ms = colourModalities();
+    for (size_t f = 0; f < files.size(); ++f)
+    {
+        const Mat img = imread(files[f], IMREAD_COLOR);
+        ASSERT_FALSE(img.empty()) << files[f];
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            expectSameLevels(ms[i], img, Mat(), 2, files[f]);
+            expectSameLevels(ms[i], img, Mat(), 5, files[f]);
+            expectSameLevels(ms[i], img, someMask(img.size(), 7), 3, files[f] + " masked");
+        }
+    }
+}
+
+TEST(Forestmod_QuantizeFast, random_odd_sizes)
+{
+    const Size sizes[] = { Size(161, 97), Size(333, 211), Size(40, 23), Size(17, 9), Size(3, 3),
+                           Size(2, 5), Size(641, 479) };
+    const std::vector<Ptr<linemod::Modality> > ms = colourModalities();
+    for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); ++s)
+    {
+        const Mat img = randomScene(sizes[s], 100 + s);
+        const Mat mask = someMask(sizes[s], 200 + s);
+        const int min_labelled = sizes[s].area() > 1000 ? 50 : 0;
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            std::ostringstream what;
+            what << "random " << sizes[s];
+            const int max_levels = sizes[s].area() > 1000 ? 4 : 2;
+            for (int levels = 1; levels <= max_levels; ++levels)
+            {
+                expectSameLevels(ms[i], img, Mat(), levels, what.str(), min_labelled);
+                expectSameLevels(ms[i], img, mask, levels, what.str() + " masked", 0);
+            }
+        }
+    }
+}
+
+TEST(Forestmod_QuantizeFast, roi_and_threads)
+{
+    // a ROI of a larger image: OpenCV's filters then read the pixels around it
+    const Mat big = randomScene(Size(420, 300), 5);
+    const Mat roi = big(Rect(37, 21, 301, 203));
+    ASSERT_TRUE(roi.isSubmatrix());
+    const std::vector<Ptr<linemod::Modality> > ms = colourModalities();
+    const int threads = getNumThreads();
+    for (int t = 1; t <= 4; t *= 2)
+    {
+        setNumThreads(t);
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            expectSameLevels(ms[i], roi, Mat(), 3, "roi, threads " + std::to_string(t));
+            expectSameLevels(ms[i], big, someMask(big.size(), 3), 2,
+                             "masked, threads " + std::to_string(t));
+        }
+    }
+    setNumThreads(threads);
+}
+
+TEST(Forestmod_QuantizeFast, all_modalities_shared_pyramids)
+{
+    using namespace cv::forestmod::detail;
+    const std::vector<std::string> files = shippedFrames();
+    ASSERT_FALSE(files.empty());
+    const Mat img = imread(files[0], IMREAD_COLOR);
+    ASSERT_FALSE(img.empty());
+    // a depth image for DepthNormal (no fast path: its virtual calls)
+    Mat depth(img.size(), CV_16U);
+    for (int r = 0; r < depth.rows; ++r)
+        for (int c = 0; c < depth.cols; ++c)
+            depth.at<ushort>(r, c) = (ushort)(800 + r + (c / 40 % 2) * 30);
+    std::vector<Ptr<linemod::Modality> > ms = colourModalities();
+    ms.push_back(linemod::Modality::create("DepthNormal"));
+    std::vector<Mat> sources(ms.size(), img), masks(ms.size());
+    sources.back() = depth;
+    const Mat mask = someMask(img.size(), 11);
+    for (size_t i = 0; i < ms.size(); i += 2)
+        masks[i] = mask;
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        std::vector<ModalityInfo> infos;
+        if (pass == 1)
+            for (size_t i = 0; i < ms.size(); ++i)
+                infos.push_back(classifyModality(ms[i]));
+        std::vector<std::vector<Mat> > q;
+        quantizeAllLevels(ms, infos, sources, masks, 3, q);
+        ASSERT_EQ(3u, q.size());
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            const std::vector<Mat> ref = referenceLevels(ms[i], sources[i], masks[i], 3);
+            for (int l = 0; l < 3; ++l)
+            {
+                ASSERT_EQ(ms.size(), q[l].size());
+                EXPECT_EQ(0, differences(ref[l], q[l][i]))
+                    << ms[i]->name() << " #" << i << " level " << l;
+                EXPECT_GT(countNonZero(q[l][i]), 20) << ms[i]->name() << " #" << i << " level "
+                                                     << l;
+            }
+        }
+    }
+}
+
+static std::vector<Ptr<linemod::Modality> > depthModalities()
+{
+    std::vector<Ptr<linemod::Modality> > ms;
+    ms.push_back(linemod::Modality::create("DepthNormal"));
+    ms.push_back(makePtr<linemod::DepthNormal>(1200, 20, 63, 2));
+    ms.push_back(makePtr<linemod::DepthNormal>(5000, 240, 63, 2));
+    return ms;
+}
+
+// A depth image (mm) with planes, spheres, steps, noise and holes.
+static Mat randomDepth(Size size, uint64 seed)
+{
+    RNG rng(seed);
+    Mat depth(size, CV_32F);
+    const double a = rng.uniform(-3., 3.), b = rng.uniform(-3., 3.);
+    for (int r = 0; r < size.height; ++r)
+        for (int c = 0; c < size.width; ++c)
+            depth.at<float>(r, c) = (float)(900 + a * c + b * r);
+    for (int i = 0; i < 6; ++i)
+    {
+        const Point2d centre(rng.uniform(0, size.width), rng.uniform(0, size.height));
+        const double radius = rng.uniform(5., std::max(6., size.width / 3.));
+        const double z = rng.uniform(500., 1500.);
+        for (int r = 0; r < size.height; ++r)
+            for (int c = 0; c < size.width; ++c)
+            {
+                const double dx = c - centre.x, dy = r - centre.y;
+                const double q = radius * radius - dx * dx - dy * dy;
+                if (q > 0)
+                    depth.at<float>(r, c) = std::min(depth.at<float>(r, c),
+                                                     (float)(z - 3 * std::sqrt(q)));
+            }
+    }
+    Mat noise(size, CV_32F);
+    rng.fill(noise, RNG::NORMAL, 0, 2);
+    depth += noise;
+    Mat out;
+    depth.convertTo(out, CV_16U);
+    Mat holes(size, CV_8U);
+    rng.fill(holes, RNG::UNIFORM, 0, 50);
+    out.setTo(0, holes == 0);
+    circle(out, Point(size.width / 2, size.height / 3), std::max(2, size.width / 12), Scalar(0),
+           FILLED);
+    return out;
+}
+
+TEST(Forestmod_QuantizeFast, depth_normals_random_odd_sizes)
+{
+    const Size sizes[] = { Size(161, 97), Size(333, 211), Size(40, 23), Size(17, 9), Size(11, 12),
+                           Size(3, 3), Size(641, 479) };
+    const std::vector<Ptr<linemod::Modality> > ms = depthModalities();
+    for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); ++s)
+    {
+        const Mat depth = randomDepth(sizes[s], 300 + s);
+        const Mat mask = someMask(sizes[s], 400 + s);
+        const int min_labelled = sizes[s].area() > 1000 ? 50 : 0;
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            std::ostringstream what;
+            what << "random depth " << sizes[s] << " #" << i;
+            // (cv::linemod refuses to reduce an image to 0 pixels)
+            const int max_levels = std::min(sizes[s].width, sizes[s].height) >= 8 ? 4 : 2;
+            for (int levels = 1; levels <= max_levels; levels += max_levels - 1)
+            {
+                expectSameLevels(ms[i], depth, Mat(), levels, what.str(), min_labelled);
+                expectSameLevels(ms[i], depth, mask, levels, what.str() + " masked", 0);
+            }
+        }
+    }
+}
+
+TEST(Forestmod_QuantizeFast, depth_normals_real_frames)
+{
+    const std::string shared = sharedDataPath();
+    if (shared.empty() || !utils::fs::exists(shared + "/real_rgbd"))
+        throw SkipTestException("FORESTMOD_SHARED_DATA/real_rgbd is not available");
+    std::vector<String> files;
+    glob(shared + "/real_rgbd/*_depth.png", files);
+    if (files.empty())
+        throw SkipTestException("no *_depth.png in FORESTMOD_SHARED_DATA/real_rgbd");
+    const std::vector<Ptr<linemod::Modality> > ms = depthModalities();
+    for (size_t f = 0; f < files.size(); ++f)
+    {
+        const Mat depth = imread(files[f], IMREAD_UNCHANGED);
+        ASSERT_EQ(CV_16UC1, depth.type()) << files[f];
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            expectSameLevels(ms[i], depth, Mat(), 2, files[f], 1000);
+            expectSameLevels(ms[i], depth, Mat(), 5, files[f], 1000);
+            expectSameLevels(ms[i], depth, someMask(depth.size(), 9), 3, files[f] + " masked");
+        }
+        // a ROI (cv::linemod reads it as if it were continuous)
+        const Mat roi = depth(Rect(13, 7, 401, 333));
+        expectSameLevels(ms[0], roi, Mat(), 3, files[f] + " roi", 1000);
+    }
+}
+
+TEST(Forestmod_QuantizeFast, depth_normals_without_fast_path)
+{
+    using namespace cv::forestmod::detail;
+    // a difference threshold beyond what the 32-bit arithmetic holds: the virtual calls
+    Ptr<linemod::Modality> wide = makePtr<linemod::DepthNormal>(2000, 241, 63, 2);
+    EXPECT_FALSE(hasFastPath(classifyModality(wide)));
+    EXPECT_TRUE(hasFastPath(classifyModality(makePtr<linemod::DepthNormal>(2000, 240, 63, 2))));
+    std::vector<Mat> q;
+    EXPECT_FALSE(fastQuantize(wide, randomDepth(Size(64, 48), 1), Mat(), 2, q));
+    // a depth of another type is cv::linemod's business
+    Ptr<linemod::Modality> dn = linemod::Modality::create("DepthNormal");
+    Mat depth_f;
+    randomDepth(Size(64, 48), 2).convertTo(depth_f, CV_32F);
+    EXPECT_FALSE(fastQuantize(dn, depth_f, Mat(), 2, q));
+    // and quantizeAllLevels takes the virtual calls for both
+    std::vector<Ptr<linemod::Modality> > ms(1, wide);
+    std::vector<Mat> sources(1, randomDepth(Size(64, 48), 3));
+    std::vector<std::vector<Mat> > all;
+    quantizeAllLevels(ms, std::vector<ModalityInfo>(), sources, std::vector<Mat>(), 2, all);
+    const std::vector<Mat> ref = referenceLevels(wide, sources[0], Mat(), 2);
+    EXPECT_EQ(0, differences(ref[0], all[0][0]));
+    EXPECT_EQ(0, differences(ref[1], all[1][0]));
+}
+
+TEST(Forestmod_QuantizeFast, frames_in_a_row_and_threads)
+{
+    using namespace cv::forestmod::detail;
+    // one output vector for frames of different content and size (its Mats are written in
+    // place when they fit), at 1, 2 and 4 threads
+    std::vector<Ptr<linemod::Modality> > ms = colourModalities();
+    ms.push_back(linemod::Modality::create("DepthNormal"));
+    std::vector<ModalityInfo> infos;
+    for (size_t i = 0; i < ms.size(); ++i)
+        infos.push_back(classifyModality(ms[i]));
+    const Size sizes[] = { Size(320, 240), Size(320, 240), Size(161, 97), Size(320, 240) };
+    std::vector<std::vector<Mat> > q;
+    const int threads = getNumThreads();
+    for (int t = 1; t <= 4; t *= 2)
+    {
+        setNumThreads(t);
+        for (int f = 0; f < 4; ++f)
+        {
+            std::vector<Mat> sources(ms.size(), randomScene(sizes[f], 50 + f + 10 * t));
+            sources.back() = randomDepth(sizes[f], 60 + f + 10 * t);
+            quantizeAllLevels(ms, infos, sources, std::vector<Mat>(), 2, q);
+            for (size_t i = 0; i < ms.size(); ++i)
+            {
+                const std::vector<Mat> ref = referenceLevels(ms[i], sources[i], Mat(), 2);
+                for (int l = 0; l < 2; ++l)
+                {
+                    EXPECT_EQ(0, differences(ref[l], q[l][i]))
+                        << "threads " << t << " frame " << f << " modality " << i << " level "
+                        << l;
+                }
+                EXPECT_GT(countNonZero(q[0][i]), 100) << "frame " << f << " modality " << i;
+            }
+        }
+    }
+    setNumThreads(threads);
+}
+
+TEST(Forestmod_QuantizeFast, wrong_inputs_are_refused)
+{
+    std::vector<Mat> q;
+    Ptr<linemod::Modality> g = linemod::Modality::create("ColorGradient");
+    EXPECT_THROW(cv::forestmod::detail::fastQuantize(g, Mat(), Mat(), 2, q), cv::Exception);
+    EXPECT_THROW(cv::forestmod::detail::fastQuantize(g, Mat(20, 20, CV_8UC1), Mat(), 2, q),
+                 cv::Exception);
+    EXPECT_THROW(cv::forestmod::detail::fastQuantize(g, Mat(20, 20, CV_8UC3), Mat(10, 20, CV_8U),
+                                                     2, q),
+                 cv::Exception);
+}
+
+static std::vector<Mat> quantizedTestImages()
+{
+    std::vector<Mat> out;
+    Ptr<linemod::Modality> g = linemod::Modality::create("ColorGradient");
+    const std::vector<std::string> files = shippedFrames();
+    if (!files.empty())
+    {
+        const Mat img = imread(files[0], IMREAD_COLOR);
+        std::vector<Mat> q = referenceLevels(g, img, Mat(), 2);
+        out.insert(out.end(), q.begin(), q.end());
+    }
+    const Size sizes[] = { Size(161, 97), Size(333, 211), Size(5, 3), Size(1, 1) };
+    for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); ++s)
+    {
+        // any byte, not only single bits: the maps are defined for every value
+        Mat q(sizes[s], CV_8U);
+        theRNG().fill(q, RNG::UNIFORM, 0, 256);
+        q.setTo(0, q < 128);
+        out.push_back(q);
+    }
+    return out;
+}
+
+TEST(Forestmod_QuantizeFast, spread_equals_reference)
+{
+    using namespace cv::forestmod::detail;
+    const std::vector<Mat> images = quantizedTestImages();
+    ASSERT_GE(images.size(), 5u);
+    const int Ts[] = { 1, 2, 3, 4, 5, 8, 11 };
+    const int pads[] = { 0, 7, 40 };
+    for (size_t i = 0; i < images.size(); ++i)
+        for (int T : Ts)
+            for (int pad : pads)
+            {
+                Mat ref, fast;
+                spreadLabelsReference(images[i], ref, T, pad);
+                spreadLabelsFast(images[i], fast, T, pad);
+                ASSERT_EQ(ref.size(), fast.size());
+                EXPECT_EQ(0, differences(ref, fast)) << "image " << i << " T " << T << " pad "
+                                                     << pad;
+                if (images[i].total() > 100 && T > 1)
+                {
+                    EXPECT_GT(countNonZero(fast), countNonZero(images[i]));
+                }
+            }
+}
+
+TEST(Forestmod_QuantizeFast, response_maps_equal_reference)
+{
+    using namespace cv::forestmod::detail;
+    std::vector<Mat> images = quantizedTestImages();
+    // every byte value, at every position of a SIMD vector and in the tail
+    Mat all(3, 256 + 7, CV_8U);
+    for (int r = 0; r < all.rows; ++r)
+        for (int c = 0; c < all.cols; ++c)
+            all.at<uchar>(r, c) = (uchar)(c + r * 3);
+    images.push_back(all);
+    for (size_t i = 0; i < images.size(); ++i)
+    {
+        Mat spread;
+        spreadLabelsReference(images[i], spread, 5, 9);
+        for (int pass = 0; pass < 2; ++pass)
+        {
+            const Mat& src = pass == 0 ? spread : images[i];
+            std::vector<Mat> ref, fast;
+            computeResponseMapsReference(src, ref);
+            computeResponseMapsFast(src, fast);
+            ASSERT_EQ(8u, fast.size());
+            for (int o = 0; o < 8; ++o)
+            {
+                EXPECT_EQ(0, differences(ref[o], fast[o])) << "image " << i << " orientation "
+                                                           << o;
+                double vmax = 0;
+                minMaxLoc(fast[o], 0, &vmax);
+                if (src.total() > 100)
+                {
+                    EXPECT_EQ(4, vmax) << "image " << i << " orientation " << o;
+                }
+            }
+        }
+    }
+}
+
+}} // namespace
