@@ -9,6 +9,8 @@
 
 #include "opencv2/core/utils/filesystem.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -144,6 +146,48 @@ static void checkBase64Blocks(const std::string& text, const String& filename)
     }
 }
 
+// YAML and JSON text: every '[' and '{' outside quoted strings and comments closed by its own
+// bracket, none left open at the end (see readModelText). XML is left to its parser.
+static void checkBrackets(const std::string& text, const String& filename)
+{
+    const size_t first = text.find_first_not_of(" \t\r\n");
+    if (first == std::string::npos || text[first] == '<')
+        return;
+    const bool yaml = text[first] != '{';
+    std::string open; // the brackets not yet closed
+    char quote = 0;   // inside a string quoted by this character
+    for (size_t i = first; i < text.size(); ++i)
+    {
+        const char c = text[i];
+        if (quote)
+        {
+            if (c == '\\' && quote == '"')
+                ++i;
+            else if (c == quote)
+                quote = 0;
+            continue;
+        }
+        if (c == '"' || (yaml && c == '\'' && (i == 0 || std::strchr(" \t\n[{,:", text[i - 1]))))
+            quote = c; // a YAML single quote opens a string only where a scalar starts
+        else if (yaml && c == '#' && (i == 0 || std::isspace((uchar)text[i - 1])))
+            i = std::min(text.find('\n', i), text.size()); // a comment, to the end of its line
+        else if (c == '[' || c == '{')
+            open.push_back(c);
+        else if (c == ']' || c == '}')
+        {
+            if (open.empty() || open[open.size() - 1] != (c == ']' ? '[' : '{'))
+                CV_Error_(Error::StsParseError,
+                          ("forestmod::Detector::load: '%s' is corrupt: '%c' at byte %lld closes "
+                           "no open bracket", filename.c_str(), c, (long long)i));
+            open.erase(open.size() - 1);
+        }
+    }
+    if (!open.empty() || quote)
+        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is corrupt or "
+                                         "truncated: %s at the end", filename.c_str(),
+                                         quote ? "a string is open" : "a bracket is open"));
+}
+
 String readModelText(const String& filename)
 {
     std::string text;
@@ -192,6 +236,7 @@ String readModelText(const String& filename)
         CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is empty",
                                          filename.c_str()));
     checkBase64Blocks(text, filename);
+    checkBrackets(text, filename);
     return text;
 }
 

@@ -508,6 +508,36 @@ TEST(Forestmod_HostileInputs, dangling_symlink_output_is_not_written_through)
 
 // ---- the fuzz targets' seeds and findings ---------------------------------------------------
 
+// A model file's brackets must balance (OpenCV's YAML parser hangs on a stray ']' followed by an
+// unclosed '['): refused when they do not, while brackets, quotes and '#' inside class ids, in
+// YAML, JSON and XML, still load.
+TEST(Forestmod_HostileInputs, model_file_brackets)
+{
+    const std::string text = smallModelText();
+    EXPECT_NE(std::string::npos, loadError(text + "\n]\n").find("closes no open bracket"));
+    EXPECT_NE(std::string::npos, loadError(text + "\nextra: [ 1, 2\n").find("bracket is open"));
+    EXPECT_NE(std::string::npos,
+              loadError(mutate(text, "pyramid_levels: 2", "pyramid_levels: [ 2 }"))
+                  .find("closes no open bracket"));
+
+    const char* formats[] = { ".yml", ".json", ".xml" };
+    for (int f = 0; f < 3; ++f)
+    {
+        Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+        Mat color, mask;
+        shapeView(0, color, mask);
+        const std::string id = "it's [a] {b} #1 \"q\" ]";
+        ASSERT_GE(det->addTemplate(std::vector<Mat>(2, color), id, mask), 0);
+        const std::string file = cv::tempfile(formats[f]);
+        det->save(file);
+        cv::forestmod::Detector loaded;
+        EXPECT_NO_THROW(loaded.load(file)) << formats[f];
+        ASSERT_EQ(1u, loaded.classIds().size()) << formats[f];
+        EXPECT_EQ(id, loaded.classIds()[0]) << formats[f];
+        std::remove(file.c_str());
+    }
+}
+
 TEST(Forestmod_HostileInputs, fuzz_seeds_load_and_fuzz_findings_are_refused)
 {
     const std::string root = cvtest::findDataFile("fuzz/README.md");
