@@ -78,8 +78,14 @@ CV_EXPORTS void quantizeAllLevels(const std::vector<Ptr<cv::linemod::Modality> >
 CV_EXPORTS void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad);
 /** Vectorised, parallel detail::computeResponseMaps(): same signature, same output. */
 CV_EXPORTS void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response);
+/** Spread labels (pad 0) and the 8 response maps of the pixels of `tile` only, written in place
+into `spread` and `response[0..7]` (CV_8UC1, the size of `src`, allocated by the caller): there
+they equal spreadLabelsFast(src, spread, T, 0) and computeResponseMapsFast(spread, response);
+the other pixels are left as they are. Tiles may be computed in parallel (disjoint tiles). */
+CV_EXPORTS void spreadResponseTile(const Mat& src, int T, Rect tile, Mat& spread,
+                                   std::vector<Mat>& response);
 
-/** detail::spreadLabels() and detail::computeResponseMaps() (validator.cpp), exported for the
+/** detail::spreadLabels() and detail::computeResponseMaps() (similarity.cpp), exported for the
 tests and the perf tests that compare the fast versions with them. */
 CV_EXPORTS void spreadLabelsReference(const Mat& src, Mat& dst, int T, int pad);
 CV_EXPORTS void computeResponseMapsReference(const Mat& spread, std::vector<Mat>& response);
