@@ -38,7 +38,7 @@ struct ModalityRoles
 
     ModalityRoles() : depth(-1) {}
     /** The roles of a detector's modalities. */
-    static ModalityRoles of(const std::vector<Ptr<cv::linemod::Modality> >& modalities);
+    CV_EXPORTS static ModalityRoles of(const std::vector<Ptr<cv::linemod::Modality> >& modalities);
     /** info[i] with the parameters modality i has now (they are public: ColorGradient's
     members, ColorHue::setParams); a modality without a fast path is not looked at again. */
     ModalityInfo currentInfo(const std::vector<Ptr<cv::linemod::Modality> >& modalities,

@@ -7,7 +7,8 @@
 // label planes of the coarsest level; the depth contexts of the refinement levels. Every later
 // stage reads it in place. The quantized images of every level and the spread and response maps
 // of the coarsest level cover the whole frame; the finer levels' spread and response maps are
-// computed on demand, in tiles, where refinement will read them (prepareRefinementLevels).
+// computed on demand, in tiles, where refinement will read them (prepareRefinementLevels). The
+// functions marked CV_EXPORTS are exported for the tests only; the header is not installed.
 
 #ifndef OPENCV_FORESTMOD_SCENE_PYRAMID_HPP
 #define OPENCV_FORESTMOD_SCENE_PYRAMID_HPP
@@ -53,15 +54,16 @@ struct ScenePyramid
 the others); the coarsest level spread over T and turned into response maps; the finer levels'
 maps allocated, no tile computed. `quantized_images`, when needed, receives the quantized images
 as cv::linemod::Detector::match returns them. */
-void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
-                   const ModalityRoles& roles, const std::vector<int>& T_at_level,
-                   const std::vector<Mat>& sources, const std::vector<Mat>& masks,
-                   ScenePyramid& scene, OutputArrayOfArrays quantized_images);
+CV_EXPORTS void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
+                              const ModalityRoles& roles, const std::vector<int>& T_at_level,
+                              const std::vector<Mat>& sources, const std::vector<Mat>& masks,
+                              ScenePyramid& scene, OutputArrayOfArrays quantized_images);
 
 /** Spread and response maps of the levels below the coarsest in every tile that meets one of
 `regions[l]` (rectangles of level-l pixels, clipped to the level), computed in parallel over the
 tiles not computed yet. Equal there to the full-frame computation. */
-void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<Rect> >& regions);
+CV_EXPORTS void prepareRefinementLevels(ScenePyramid& scene,
+                                        const std::vector<std::vector<Rect> >& regions);
 
 /** The forest's label planes of the coarsest level, bordered by `border` zero pixels. */
 void forestPlanes(int dominant_window, int border, ScenePyramid& scene);

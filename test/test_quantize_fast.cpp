@@ -2,11 +2,14 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory
 // of this distribution and at http://opencv.org/license.html
 
-// The fast quantization (src/quantize_fast.*) against the modalities' own virtual calls, and the
-// fast spreading / response maps against detail::spreadLabels / computeResponseMaps.
+// The fast quantization (src/quantize_fast.*) against the modalities' own virtual calls, the
+// fast spreading / response maps against detail::spreadLabels / computeResponseMaps, and the
+// scene pyramid's on-demand tiles against the full-frame maps.
 
 #include "test_precomp.hpp"
 #include "../src/quantize_fast.hpp"
+#include "../src/scene_pyramid.hpp"
+#include "../src/refine.hpp"
 
 namespace opencv_test { namespace {
 
@@ -533,6 +536,144 @@ TEST(Forestmod_QuantizeFast, response_maps_equal_reference)
             }
         }
     }
+}
+
+TEST(Forestmod_QuantizeFast, tiles_equal_full_frame_maps)
+{
+    using namespace cv::forestmod::detail;
+    const std::vector<Mat> images = quantizedTestImages();
+    ASSERT_GE(images.size(), 5u);
+    RNG rng(11);
+    const int Ts[] = { 1, 2, 5, 8, 11 };
+    for (size_t i = 0; i < images.size(); ++i)
+        for (int T : Ts)
+        {
+            const Mat& q = images[i];
+            Mat spread_full;
+            std::vector<Mat> resp_full;
+            spreadLabelsFast(q, spread_full, T, 0);
+            computeResponseMapsFast(spread_full, resp_full);
+            // unset pixels keep a value no response has
+            Mat spread(q.size(), CV_8U, Scalar(0xEE)), done = Mat::zeros(q.size(), CV_8U);
+            std::vector<Mat> resp(8);
+            for (int o = 0; o < 8; ++o)
+                resp[o] = Mat(q.size(), CV_8U, Scalar(0xEE));
+            for (int k = 0; k < 6; ++k)
+            {
+                // tiles of any size, some over the right or bottom border or outside
+                const Rect tile(rng.uniform(-8, q.cols + 4), rng.uniform(-8, q.rows + 4),
+                                rng.uniform(1, 80), rng.uniform(1, 40));
+                spreadResponseTile(q, T, tile, spread, resp);
+                done(tile & Rect(0, 0, q.cols, q.rows)).setTo(1);
+            }
+            const Mat outside = done == 0;
+            Mat expect = spread_full.clone();
+            expect.setTo(0xEE, outside);
+            EXPECT_EQ(0, differences(expect, spread)) << "image " << i << " T " << T;
+            for (int o = 0; o < 8; ++o)
+            {
+                expect = resp_full[o].clone();
+                expect.setTo(0xEE, outside);
+                EXPECT_EQ(0, differences(expect, resp[o])) << "image " << i << " T " << T
+                                                            << " orientation " << o;
+            }
+        }
+}
+
+// Refinement reads the finer levels only where refinementRegions() says: coarse matches of
+// real templates at random positions (borders included), refined on tiles computed on demand and
+// on maps computed everywhere, threshold 0 (no match dropped, also those whose best position is
+// "none") and 60: the same matches. 2 pyramid levels (few matches: part of level 0 computed) and
+// 3 (the regions of level 0 hold every position level 1 may choose).
+static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, bool partial)
+{
+    using namespace cv::forestmod::detail;
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(linemod::Modality::create("ColorGradient"));
+    mods.push_back(ColorHue::create());
+    const int L = (int)T.size() - 1;
+    cv::linemod::Detector templ_src(mods, T);
+    const Mat train = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000224.png"),
+                             IMREAD_COLOR);
+    const Mat frame = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"),
+                             IMREAD_COLOR);
+    ASSERT_FALSE(train.empty());
+    ASSERT_FALSE(frame.empty());
+    RNG rng(5);
+    ClassPyramids pyramids;
+    std::vector<Mat> train_src(2, train);
+    for (int k = 0; k < 12; ++k)
+    {
+        Mat mask = Mat::zeros(train.size(), CV_8U);
+        const Size s(rng.uniform(30, 100), rng.uniform(30, 100));
+        ellipse(mask, Point(rng.uniform(120, 520), rng.uniform(120, 360)), s, 0, 0, 360,
+                Scalar(255), FILLED);
+        const int id = templ_src.addTemplate(train_src, "obj", mask);
+        if (id >= 0)
+            pyramids["obj"].push_back(templ_src.getTemplates("obj", id));
+    }
+    ASSERT_GE(pyramids["obj"].size(), 8u);
+
+    const ModalityRoles roles = ModalityRoles::of(mods);
+    const std::vector<Mat> sources(2, frame);
+    ScenePyramid on_demand, full;
+    quantizeScene(mods, roles, T, sources, std::vector<Mat>(), on_demand, noArray());
+    quantizeScene(mods, roles, T, sources, std::vector<Mat>(), full, noArray());
+    std::vector<std::vector<Rect> > everything(L);
+    for (int l = 0; l < L; ++l)
+        everything[l].push_back(Rect(Point(0, 0), full.levels[l].size));
+    prepareRefinementLevels(full, everything);
+
+    const Size top = on_demand.coarsest().size;
+    std::vector<linemod::Match> coarse;
+    for (int k = 0; k < num_matches; ++k)
+    {
+        const int id = rng.uniform(0, (int)pyramids["obj"].size());
+        // a third on the left or right border, the rest anywhere
+        int x = rng.uniform(-10, top.width + 10), y = rng.uniform(-10, top.height + 10);
+        if (k % 3 == 0)
+            x = k % 2 ? rng.uniform(-4, 8) : top.width - rng.uniform(-4, 8);
+        coarse.push_back(linemod::Match(x, y, 90.f, "obj", id));
+    }
+    std::vector<std::vector<Rect> > regions;
+    refinementRegions(on_demand, pyramids, coarse, regions);
+    ASSERT_EQ((size_t)L, regions.size());
+    ASSERT_EQ(coarse.size(), regions[0].size());
+    prepareRefinementLevels(on_demand, regions);
+    const int tiles0 = countNonZero(on_demand.tiles[0]);
+    EXPECT_GT(tiles0, 0);
+    if (partial)
+    {
+        EXPECT_LT(tiles0, (int)on_demand.tiles[0].total());
+    }
+
+    TemplateStore store; // no depth samples: refinement does not read it
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        const float thr = pass == 0 ? 0.f : 60.f;
+        std::vector<linemod::Match> a = coarse, b = coarse;
+        refineMatches(on_demand, pyramids, store, thr, a);
+        refineMatches(full, pyramids, store, thr, b);
+        ASSERT_EQ(b.size(), a.size()) << "threshold " << thr;
+        if (pass == 0)
+        {
+            EXPECT_EQ(coarse.size(), a.size());
+        }
+        for (size_t k = 0; k < a.size(); ++k)
+        {
+            EXPECT_EQ(b[k].x, a[k].x) << k;
+            EXPECT_EQ(b[k].y, a[k].y) << k;
+            EXPECT_EQ(b[k].template_id, a[k].template_id) << k;
+            EXPECT_EQ(b[k].similarity, a[k].similarity) << k;
+        }
+    }
+}
+
+TEST(Forestmod_QuantizeFast, refinement_on_tiles_equals_full_maps)
+{
+    expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 6, true);
+    expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 200, false);
+    expectRefinementOnTiles(std::vector<int>{ 4, 6, 8 }, 40, false);
 }
 
 }} // namespace
