@@ -676,4 +676,69 @@ TEST(Forestmod_QuantizeFast, refinement_on_tiles_equals_full_maps)
     expectRefinementOnTiles(std::vector<int>{ 4, 6, 8 }, 40, false);
 }
 
+// match() with the scene pyramid's fast paths and on-demand tiles gives the same matches with 1
+// and 4 threads, and its quantized_images are the modalities' own: the golden models (RGB and RGB-D ape), 1 tree and exhaustive, on a shipped
+// frame and a golden RGB-D scene.
+TEST(Forestmod_QuantizeFast, match_same_with_1_and_4_threads)
+{
+    const Mat lmo = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"),
+                           IMREAD_COLOR);
+    const Mat rgb = imread(cvtest::findDataFile("golden/scene0_rgb.png"), IMREAD_COLOR);
+    const Mat depth = imread(cvtest::findDataFile("golden/scene0_depth.png"), IMREAD_UNCHANGED);
+    ASSERT_FALSE(lmo.empty());
+    ASSERT_FALSE(rgb.empty());
+    ASSERT_EQ(CV_16UC1, depth.type());
+    const int old_threads = getNumThreads();
+    size_t compared = 0;
+    for (int rgbd = 0; rgbd < 2; ++rgbd)
+    {
+        cv::forestmod::Detector det;
+        det.load(cvtest::findDataFile(rgbd ? "golden/ape_rgbd.yml.gz" : "golden/ape_rgb.yml.gz"));
+        std::vector<Mat> src;
+        for (const Ptr<linemod::Modality>& m : det.getModalities())
+            src.push_back(m->name() == "DepthNormal" ? depth : (rgbd ? rgb : lmo));
+        for (int exhaustive = 0; exhaustive < 2; ++exhaustive)
+        {
+            DetectorParams p = det.getParams();
+            p.use_forest = !exhaustive;
+            det.setParams(p);
+            std::vector<linemod::Match> one, four;
+            std::vector<Mat> q1, q4;
+            setNumThreads(1);
+            det.match(src, 70.f, one, std::vector<String>(), q1);
+            setNumThreads(4);
+            det.match(src, 70.f, four, std::vector<String>(), q4);
+            setNumThreads(old_threads);
+            ASSERT_EQ(one.size(), four.size()) << "rgbd " << rgbd << " exhaustive " << exhaustive;
+            for (size_t k = 0; k < one.size(); ++k)
+            {
+                EXPECT_EQ(one[k].x, four[k].x);
+                EXPECT_EQ(one[k].y, four[k].y);
+                EXPECT_EQ(one[k].template_id, four[k].template_id);
+                EXPECT_EQ(one[k].similarity, four[k].similarity);
+            }
+            ASSERT_EQ(q1.size(), q4.size());
+            ASSERT_EQ(det.getModalities().size() * det.pyramidLevels(), q1.size());
+            for (size_t k = 0; k < q1.size(); ++k)
+            {
+                EXPECT_EQ(0, differences(q1[k], q4[k])) << "quantized image " << k;
+            }
+            // match()'s quantized_images: what the modalities' own virtual calls give
+            const int M = (int)src.size(), levels = det.pyramidLevels();
+            for (int i = 0; i < M; ++i)
+            {
+                const std::vector<Mat> ref = referenceLevels(det.getModalities()[i], src[i],
+                                                             Mat(), levels);
+                for (int l = 0; l < levels; ++l)
+                {
+                    EXPECT_EQ(0, differences(ref[l], q1[l * M + i])) << "modality " << i
+                                                                     << " level " << l;
+                }
+            }
+            compared += one.size();
+        }
+    }
+    EXPECT_GT(compared, 0u);
+}
+
 }} // namespace
