@@ -23,6 +23,7 @@
 #include "precomp.hpp"
 #include "quantize_fast.hpp"
 #include "validator.hpp"
+#include "search_index.hpp"
 
 #include "opencv2/core/hal/hal.hpp"
 #include "opencv2/core/hal/intrin.hpp"
@@ -1391,6 +1392,87 @@ void spreadResponseTile(const Mat& src, int T, Rect tile, Mat& spread, std::vect
             d[o] = response[o].ptr<uchar>(r) + x0;
         responseRow(tables, s, w, d);
     }
+}
+
+void dominantLabelsFast(const Mat& src, int k, Mat& dst)
+{
+    CV_Assert(src.type() == CV_8UC1 && k >= 1 && k <= 15); // counts of k^2 fit in a byte
+    dst.create(src.size(), CV_8U); // in place when dst already fits (a ROI of a bordered plane)
+    CV_Assert(dst.data != src.data);
+    if (k == 1)
+    {
+        src.copyTo(dst);
+        return;
+    }
+    const int rows = src.rows, cols = src.cols, a = k / 2; // window [x - a, x - a + k)
+    const int nstripes = stripesFor(rows, cols, 16);
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        // per bit: the column sums of the window's rows, with k - 1 zero columns around
+        const int padded = cols + k + 16;
+        std::vector<uchar> colsum_buf((size_t)padded, 0), best_buf((size_t)cols + 16);
+        uchar* colsum = &colsum_buf[0] + a;
+        uchar* best = &best_buf[0];
+        for (int y = range.start; y < range.end; ++y)
+        {
+            const int r0 = std::max(0, y - a), r1 = std::min(rows, y - a + k);
+            uchar* d = dst.ptr<uchar>(y);
+            memset(best, 0, cols);
+            memset(d, 0, cols);
+            for (int b = 0; b < 8; ++b)
+            {
+                const uchar bit = (uchar)(1 << b);
+                int x = 0;
+#if CV_SIMD128
+                const v_uint8x16 vbit = v_setall_u8(bit);
+                for (; x <= cols - 16; x += 16)
+                {
+                    v_uint8x16 acc = v_setzero_u8();
+                    for (int r = r0; r < r1; ++r) // a set bit gives 0xFF: subtracting adds 1
+                        acc = v_sub_wrap(acc, (v_load(src.ptr<uchar>(r) + x) & vbit) == vbit);
+                    v_store(colsum + x, acc);
+                }
+#endif
+                for (; x < cols; ++x)
+                {
+                    int acc = 0;
+                    for (int r = r0; r < r1; ++r)
+                        acc += (src.ptr<uchar>(r)[x] & bit) ? 1 : 0;
+                    colsum[x] = (uchar)acc;
+                }
+                // the window's count; a larger count than the bits before takes the pixel
+                const uchar* first = colsum - a;
+                x = 0;
+#if CV_SIMD128
+                for (; x <= cols - 16; x += 16)
+                {
+                    v_uint8x16 cnt = v_load(first + x);
+                    for (int j = 1; j < k; ++j)
+                        cnt += v_load(first + x + j);
+                    const v_uint8x16 bc = v_load(best + x);
+                    const v_uint8x16 gt = cnt > bc;
+                    v_store(best + x, v_select(gt, cnt, bc));
+                    v_store(d + x, v_select(gt, vbit, v_load(d + x)));
+                }
+#endif
+                for (; x < cols; ++x)
+                {
+                    int cnt = 0;
+                    for (int j = 0; j < k; ++j)
+                        cnt += first[x + j];
+                    if (cnt > best[x])
+                    {
+                        best[x] = (uchar)cnt;
+                        d[x] = bit;
+                    }
+                }
+            }
+        }
+    }, nstripes);
+}
+
+void dominantLabelsReference(const Mat& src, int k, Mat& dst)
+{
+    dominantLabels(src, Mat(), k, dst);
 }
 
 void spreadLabelsReference(const Mat& src, Mat& dst, int T, int pad)

@@ -85,6 +85,14 @@ the other pixels are left as they are. Tiles may be computed in parallel (disjoi
 CV_EXPORTS void spreadResponseTile(const Mat& src, int T, Rect tile, Mat& spread,
                                    std::vector<Mat>& response);
 
+/** Vectorised, parallel detail::dominantLabels() without a mask (the forest's label planes):
+dst(p) = the label bit set most often in the k x k window of p (anchor k / 2, zeros outside;
+ties: the lowest bit; 0 where no bit is set). k in [1, 15]. `dst` is written in place when it
+already has src's size and type (a ROI of a bordered plane). */
+CV_EXPORTS void dominantLabelsFast(const Mat& src, int k, Mat& dst);
+/** detail::dominantLabels() without a mask (search_index.cpp), for the tests. */
+CV_EXPORTS void dominantLabelsReference(const Mat& src, int k, Mat& dst);
+
 /** detail::spreadLabels() and detail::computeResponseMaps() (similarity.cpp), exported for the
 tests and the perf tests that compare the fast versions with them. */
 CV_EXPORTS void spreadLabelsReference(const Mat& src, Mat& dst, int T, int pad);

@@ -116,10 +116,10 @@ void forestPlanes(int dominant_window, int border, ScenePyramid& scene)
     {
         // the forest reads the plain quantized images (one label per point, as the templates it
         // was trained on; spreading would add labels and mislead the splits: doc/forest.md)
-        Mat dominant;
-        dominantLabels(top.quantized[m], Mat(), dominant_window, dominant);
-        copyMakeBorder(dominant, scene.planes[m], border, border, border, border, BORDER_CONSTANT,
-                       Scalar(0));
+        const Size size = top.quantized[m].size();
+        scene.planes[m] = Mat::zeros(size.height + 2 * border, size.width + 2 * border, CV_8U);
+        Mat inner = scene.planes[m](Rect(border, border, size.width, size.height));
+        dominantLabelsFast(top.quantized[m], dominant_window, inner);
         scene.plane_ptr[m] = scene.planes[m].ptr();
     }
     scene.plane_step = M ? scene.planes[0].step : 0;

@@ -66,12 +66,12 @@ CV_EXPORTS void prepareRefinementLevels(ScenePyramid& scene,
                                         const std::vector<std::vector<Rect> >& regions);
 
 /** The forest's label planes of the coarsest level, bordered by `border` zero pixels. */
-void forestPlanes(int dominant_window, int border, ScenePyramid& scene);
+CV_EXPORTS void forestPlanes(int dominant_window, int border, ScenePyramid& scene);
 
 /** Depth contexts of the refinement levels: at level l a match's position is known to +-T_l / 2
 pixels, so the scene's depth range is taken over squares of that radius (level-0 pixels). */
-void depthContexts(const Mat& depth, const std::vector<int>& T_at_level, int tolerance,
-                   ScenePyramid& scene);
+CV_EXPORTS void depthContexts(const Mat& depth, const std::vector<int>& T_at_level,
+                              int tolerance, ScenePyramid& scene);
 
 } // namespace detail
 } // namespace forestmod

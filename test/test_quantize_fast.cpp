@@ -538,6 +538,37 @@ TEST(Forestmod_QuantizeFast, response_maps_equal_reference)
     }
 }
 
+TEST(Forestmod_QuantizeFast, dominant_labels_equal_reference)
+{
+    using namespace cv::forestmod::detail;
+    std::vector<Mat> images = quantizedTestImages(); // any bytes: several bits per pixel
+    for (size_t i = 0; i < images.size(); i += 2) // and one-hot labels
+    {
+        Mat onehot(images[i].size(), CV_8U);
+        for (int r = 0; r < onehot.rows; ++r)
+            for (int c = 0; c < onehot.cols; ++c)
+            {
+                const uchar v = images[i].at<uchar>(r, c);
+                onehot.at<uchar>(r, c) = v ? (uchar)(1 << (v & 7)) : 0;
+            }
+        images.push_back(onehot);
+    }
+    for (size_t i = 0; i < images.size(); ++i)
+        for (int k = 1; k <= 9; ++k)
+        {
+            Mat ref, fast;
+            dominantLabelsReference(images[i], k, ref);
+            dominantLabelsFast(images[i], k, fast);
+            EXPECT_EQ(0, differences(ref, fast)) << "image " << i << " k " << k;
+            // in place, into a ROI of a bordered plane
+            Mat plane = Mat::zeros(images[i].rows + 6, images[i].cols + 6, CV_8U);
+            Mat inner = plane(Rect(3, 3, images[i].cols, images[i].rows));
+            dominantLabelsFast(images[i], k, inner);
+            EXPECT_EQ(0, differences(ref, inner)) << "image " << i << " k " << k;
+            EXPECT_EQ(countNonZero(ref), countNonZero(plane));
+        }
+}
+
 TEST(Forestmod_QuantizeFast, tiles_equal_full_frame_maps)
 {
     using namespace cv::forestmod::detail;
