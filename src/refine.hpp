@@ -19,8 +19,9 @@ namespace detail {
 
 /** Refines coarse matches up the pyramid (LINEMOD's arithmetic); a match that falls under the
 threshold at some level is dropped. The finer levels' maps must be ready where the matches'
-refinementRegions() lie (prepareRefinementLevels()). With the scene's depth contexts (ScenePyramid::depth_ctx
-non-empty), each template's depth samples join its score at every level. Keeps the order. */
+refinementRegions() lie (prepareRefinementLevels()). With the scene's depth contexts
+(ScenePyramid::depth_ctx non-empty), each template's depth samples join its score at every
+level. Keeps the order. */
 CV_EXPORTS void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
                               const TemplateStore& store, float threshold,
                               std::vector<cv::linemod::Match>& matches);

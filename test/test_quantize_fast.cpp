@@ -708,8 +708,8 @@ TEST(Forestmod_QuantizeFast, refinement_on_tiles_equals_full_maps)
 }
 
 // match() with the scene pyramid's fast paths and on-demand tiles gives the same matches with 1
-// and 4 threads, and its quantized_images are the modalities' own: the golden models (RGB and RGB-D ape), 1 tree and exhaustive, on a shipped
-// frame and a golden RGB-D scene.
+// and 4 threads, and its quantized_images are the modalities' own: the golden models (RGB and
+// RGB-D ape), 1 tree and exhaustive, on a shipped frame and a golden RGB-D scene.
 TEST(Forestmod_QuantizeFast, match_same_with_1_and_4_threads)
 {
     const Mat lmo = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"),
