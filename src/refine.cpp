@@ -117,22 +117,30 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
     regions.assign(L, std::vector<Rect>());
     for (int l = 0; l < L; ++l)
         regions[l].reserve(matches.size());
+    // the feature extents of the last template seen (the exhaustive search gives its matches
+    // template by template)
+    const TemplatePyramid* last = 0;
+    std::vector<Point> f_lo(L), f_hi(L);
     for (size_t k = 0; k < matches.size(); ++k)
     {
         const cv::linemod::Match& m = matches[k];
         const TemplatePyramid& tp = pyramids.find(m.class_id)->second[m.template_id];
+        if (&tp != last)
+        {
+            for (int l = 0; l < L; ++l)
+                featureExtent(tp, l, M, f_lo[l], f_hi[l]);
+            last = &tp;
+        }
         int x_lo = m.x, x_hi = m.x, y_lo = m.y, y_hi = m.y;
         for (int l = L - 1; l >= 0; --l)
         {
             const LevelMaps& lm = scene.levels[l];
             const int border = 8 * lm.T;
-            Point f_lo, f_hi;
-            featureExtent(tp, l, M, f_lo, f_hi);
             int x0, x1, y0, y1;
             refineSpan(x_lo, x_hi, border, lm.size.width - tp[l * M].width - border, lm.T,
-                       f_lo.x, f_hi.x, x0, x1, x_lo, x_hi);
+                       f_lo[l].x, f_hi[l].x, x0, x1, x_lo, x_hi);
             refineSpan(y_lo, y_hi, border, lm.size.height - tp[l * M].height - border, lm.T,
-                       f_lo.y, f_hi.y, y0, y1, y_lo, y_hi);
+                       f_lo[l].y, f_hi[l].y, y0, y1, y_lo, y_hi);
             regions[l].push_back(Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1));
         }
     }
