@@ -772,4 +772,77 @@ TEST(Forestmod_QuantizeFast, match_same_with_1_and_4_threads)
     EXPECT_GT(compared, 0u);
 }
 
+// A user's modality (here a ColorGradient subclass, which may override processImpl) goes through
+// its own virtual calls inside match(), with the same matches as the fast path of the plain
+// ColorGradient; the fast path reads a modality's parameters at every frame.
+struct CountingGradient : public linemod::ColorGradient
+{
+    static int calls;
+
+protected:
+    Ptr<linemod::QuantizedPyramid> processImpl(const Mat& src, const Mat& mask) const CV_OVERRIDE
+    {
+        ++calls;
+        return linemod::ColorGradient::processImpl(src, mask);
+    }
+};
+int CountingGradient::calls = 0;
+
+TEST(Forestmod_QuantizeFast, match_user_modality_and_changed_parameters)
+{
+    const Mat train = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000224.png"),
+                             IMREAD_COLOR);
+    const Mat frame = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"),
+                             IMREAD_COLOR);
+    ASSERT_FALSE(train.empty());
+    ASSERT_FALSE(frame.empty());
+    DetectorParams p;
+    p.use_forest = false; // the exhaustive search: no training needed
+    const std::vector<int> T{ 5, 8 };
+    std::vector<Ptr<linemod::Modality> > plain, user;
+    plain.push_back(linemod::Modality::create("ColorGradient"));
+    plain.push_back(ColorHue::create());
+    user.push_back(makePtr<CountingGradient>());
+    user.push_back(ColorHue::create());
+    cv::forestmod::Detector a(plain, T, p), b(user, T, p);
+    RNG rng(9);
+    for (int k = 0; k < 6; ++k)
+    {
+        Mat mask = Mat::zeros(train.size(), CV_8U);
+        ellipse(mask, Point(rng.uniform(150, 490), rng.uniform(150, 330)),
+                Size(rng.uniform(40, 90), rng.uniform(40, 90)), 0, 0, 360, Scalar(255), FILLED);
+        const std::vector<Mat> src(2, train);
+        EXPECT_EQ(a.addTemplate(src, "obj", mask), b.addTemplate(src, "obj", mask));
+    }
+    ASSERT_GT(a.numTemplates(), 0);
+    const std::vector<Mat> src(2, frame);
+    std::vector<linemod::Match> ma, mb;
+    CountingGradient::calls = 0;
+    a.match(src, 60.f, ma);
+    EXPECT_EQ(0, CountingGradient::calls);
+    b.match(src, 60.f, mb);
+    EXPECT_EQ(1, CountingGradient::calls) << "the user's modality keeps its virtual calls";
+    ASSERT_FALSE(ma.empty());
+    ASSERT_EQ(ma.size(), mb.size());
+    for (size_t k = 0; k < ma.size(); ++k)
+    {
+        EXPECT_EQ(ma[k].x, mb[k].x);
+        EXPECT_EQ(ma[k].y, mb[k].y);
+        EXPECT_EQ(ma[k].template_id, mb[k].template_id);
+        EXPECT_EQ(ma[k].similarity, mb[k].similarity);
+    }
+
+    // parameters changed after the detector was made are those of the next frame
+    Ptr<linemod::ColorGradient> g = a.getModalities()[0].dynamicCast<linemod::ColorGradient>();
+    ASSERT_FALSE(g.empty());
+    std::vector<Mat> before, after;
+    a.match(src, 60.f, ma, std::vector<String>(), before);
+    g->weak_threshold = 40.f;
+    a.match(src, 60.f, ma, std::vector<String>(), after);
+    const std::vector<Mat> ref = referenceLevels(g, frame, Mat(), 2);
+    EXPECT_EQ(0, differences(ref[0], after[0]));
+    EXPECT_EQ(0, differences(ref[1], after[2]));
+    EXPECT_GT(differences(before[0], after[0]), 0);
+}
+
 }} // namespace
