@@ -6,10 +6,13 @@
 // response maps): forestmod's fast paths (src/quantize_fast.*) against cv::linemod's own
 // quantization of the same modalities (process + quantize + pyrDown + quantize), VGA and 720p,
 // RGB (ColorGradient + ColorHue) and RGB-D (+ DepthNormal), 1 and 2 threads. Two levels, as the
-// detector's defaults (T = {5, 8}).
+// detector's defaults (T = {5, 8}). `scene` is the pair of the issue: what match() computes of a
+// frame before the forest (src/scene_pyramid.*) against cv::linemod's quantization;
+// `refinement_tiles` is what it computes after validation, per refined match.
 
 #include "perf_precomp.hpp"
 #include "../src/quantize_fast.hpp"
+#include "../src/scene_pyramid.hpp"
 
 #include "opencv2/core/utils/filesystem.hpp"
 
@@ -176,6 +179,100 @@ PERF_TEST_P(Forestmod_ScenePyramid, quantize_spread_response,
         ASSERT_EQ(8u, resp[0][i].size());
         ASSERT_GT(countNonZero(resp[1][i][0]), 0);
     }
+    SANITY_CHECK_NOTHING();
+}
+
+// What match() computes of a frame before the forest (T_quant without the refinement tiles):
+// quantizeScene (every level quantized, the coarsest spread and turned into response maps),
+// forestPlanes, and for RGB-D depthContexts; IMPL_LINEMOD: cv::linemod's quantization of the same
+// modalities (process + quantize + pyrDown + quantize: forestmod_eval's T_quant of cv::linemod).
+PERF_TEST_P(Forestmod_ScenePyramid, scene,
+            Combine(Values(szVGA, sz720p), SceneKind::all(), Values(1, 2), QuantImpl::all()))
+{
+    const Size size = get<0>(GetParam());
+    const int kind = get<1>(GetParam()), threads = get<2>(GetParam());
+    const int impl = get<3>(GetParam());
+    const Scene s = makeScene(size, kind);
+    const int M = (int)s.modalities.size(), levels = 2;
+    const std::vector<int> T{ 5, 8 };
+    const cv::forestmod::DetectorParams params;
+    const ModalityRoles roles = ModalityRoles::of(s.modalities);
+    const int old_threads = getNumThreads();
+    setNumThreads(threads);
+    std::vector<std::vector<Mat> > q(levels, std::vector<Mat>(M));
+    ScenePyramid scene;
+    TEST_CYCLE()
+    {
+        if (impl == IMPL_LINEMOD)
+        {
+            for (int i = 0; i < M; ++i)
+            {
+                Ptr<linemod::QuantizedPyramid> qp = s.modalities[i]->process(s.sources[i]);
+                for (int l = 0; l < levels; ++l)
+                {
+                    if (l > 0)
+                        qp->pyrDown();
+                    qp->quantize(q[l][i]);
+                }
+            }
+        }
+        else
+        {
+            quantizeScene(s.modalities, roles, T, s.sources, std::vector<Mat>(), scene,
+                          noArray());
+            forestPlanes(params.dominant_window, 40, scene);
+            if (kind == SCENE_RGBD)
+                depthContexts(s.sources[2], T, params.depth_tolerance, scene);
+        }
+    }
+    setNumThreads(old_threads);
+    if (impl == IMPL_FAST)
+    {
+        ASSERT_EQ(2u, scene.levels.size());
+        ASSERT_EQ((size_t)M, scene.planes.size());
+        ASSERT_GT(countNonZero(scene.coarsest().response[0][0]), 0);
+    }
+    else
+    {
+        ASSERT_GT(countNonZero(q[0][0]), 0);
+    }
+    SANITY_CHECK_NOTHING();
+}
+
+typedef tuple<Size, SceneKind, int, int> TileParams;
+typedef TestBaseWithParam<TileParams> Forestmod_ScenePyramid_tiles;
+
+// The level-0 spread and response maps that refinement reads, computed on demand: `regions`
+// regions of 240 x 240 pixels (16 cells of T = 5 and a template of 160 pixels: one refined
+// match) spread over the frame, or the whole frame (0).
+PERF_TEST_P(Forestmod_ScenePyramid_tiles, refinement_tiles,
+            Combine(Values(szVGA), SceneKind::all(), Values(1, 2), Values(1, 10, 0)))
+{
+    const Size size = get<0>(GetParam());
+    const int kind = get<1>(GetParam()), threads = get<2>(GetParam());
+    const int n = get<3>(GetParam());
+    const Scene s = makeScene(size, kind);
+    const std::vector<int> T{ 5, 8 };
+    const ModalityRoles roles = ModalityRoles::of(s.modalities);
+    std::vector<std::vector<Rect> > regions(1);
+    if (n == 0)
+        regions[0].push_back(Rect(Point(0, 0), size));
+    RNG rng(3);
+    for (int k = 0; k < n; ++k)
+        regions[0].push_back(Rect(rng.uniform(0, size.width - 240),
+                                  rng.uniform(0, size.height - 240), 240, 240));
+    const int old_threads = getNumThreads();
+    setNumThreads(threads);
+    ScenePyramid scene;
+    quantizeScene(s.modalities, roles, T, s.sources, std::vector<Mat>(), scene, noArray());
+    const Mat untouched = scene.tiles[0].clone();
+    TEST_CYCLE()
+    {
+        untouched.copyTo(scene.tiles[0]); // every cycle computes the tiles again
+        prepareRefinementLevels(scene, regions);
+    }
+    setNumThreads(old_threads);
+    ASSERT_GT(countNonZero(scene.tiles[0]), 0);
     SANITY_CHECK_NOTHING();
 }
 

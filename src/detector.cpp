@@ -264,9 +264,10 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
     std::vector<String> classes;
     const std::vector<uchar> allowed = allowedRows(d, class_ids, classes);
 
-    // 1. scene pyramid: the frame's maps, once
+    // 1. scene pyramid: the frame's maps, once (below the coarsest level: on demand, step 4)
     detail::ScenePyramid scene;
-    detail::quantizeScene(d.modalities, d.T, sources, masks, scene, quantized_images);
+    detail::quantizeScene(d.modalities, d.impl.roles, d.T, sources, masks, scene,
+                          quantized_images);
     const int L = scene.coarsestIndex();
     if (d.impl.roles.depth >= 0)
         scene.depth = sources[d.impl.roles.depth];
@@ -277,7 +278,7 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
         if (!scene.depth.empty() && params.depth_samples > 0)
             detail::depthContexts(scene.depth, d.T, params.depth_tolerance, scene);
     }
-    const double t_quant = clock.lap();
+    double t_quant = clock.lap();
     double t_tree = 0;
     detail::MatchCounters counters;
     Mat rejection_map;
@@ -293,14 +294,20 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
         // 3. validation: breadth-first, the best survivors of each location
         detail::validateLocations(scene, cands, d.impl.index, d.pyramids, params, threshold,
                                   matches);
-        // 4. pyramid refinement (with the depth samples)
-        detail::refineMatches(scene, d.pyramids, d.impl.store, threshold, matches);
     }
     else // exhaustive LINEMOD search of the same templates
         detail::matchExhaustive(scene, d.pyramids, classes, threshold, matches, counters);
+    double t_valid = clock.lap();
+    // 4. the finer levels' maps where the coarse matches will be refined (timed with the scene
+    // pyramid), then the pyramid refinement (with the depth samples when the forest is used)
+    std::vector<std::vector<Rect> > regions;
+    detail::refinementRegions(scene, d.pyramids, matches, regions);
+    detail::prepareRefinementLevels(scene, regions);
+    t_quant += clock.lap();
+    detail::refineMatches(scene, d.pyramids, d.impl.store, threshold, matches);
     std::sort(matches.begin(), matches.end());
     matches.erase(std::unique(matches.begin(), matches.end()), matches.end());
-    const double t_valid = clock.lap();
+    t_valid += clock.lap();
     if (stats)
     {
         counters.addTo(*stats);

@@ -20,10 +20,18 @@ ModalityRoles ModalityRoles::of(const std::vector<Ptr<cv::linemod::Modality> >& 
             : name == "ColorHue"                          ? ROLE_HUE
                                                           : ROLE_OTHER;
         r.role.push_back(role);
+        r.info.push_back(classifyModality(modalities[i]));
         if (role == ROLE_NORMAL && r.depth < 0)
             r.depth = static_cast<int>(i);
     }
     return r;
+}
+
+ModalityInfo ModalityRoles::currentInfo(
+    const std::vector<Ptr<cv::linemod::Modality> >& modalities, int i) const
+{
+    CV_DbgAssert(i >= 0 && i < (int)info.size() && info.size() == modalities.size());
+    return info[i].kind == MODALITY_OTHER ? info[i] : classifyModality(modalities[i]);
 }
 
 static void checkMasks(const std::vector<Mat>& sources, const std::vector<Mat>& masks,

@@ -10,6 +10,7 @@
 
 #include "opencv2/core.hpp"
 #include "opencv2/rgbd/linemod.hpp"
+#include "quantize_fast.hpp"
 
 #include <vector>
 
@@ -28,11 +29,20 @@ enum ModalityRole
 struct ModalityRoles
 {
     std::vector<ModalityRole> role; //!< per modality
+    /** Per modality, whether the scene pyramid computes it with a fast path (quantize_fast.hpp:
+    exactly cv::linemod's ColorGradient or DepthNormal, or forestmod's ColorHue, recognised by
+    dynamic type) and with which parameters when the modalities were set; see
+    currentInfo(). */
+    std::vector<ModalityInfo> info;
     int depth;                      //!< index of the DepthNormal modality, -1 without one
 
     ModalityRoles() : depth(-1) {}
     /** The roles of a detector's modalities. */
-    static ModalityRoles of(const std::vector<Ptr<cv::linemod::Modality> >& modalities);
+    CV_EXPORTS static ModalityRoles of(const std::vector<Ptr<cv::linemod::Modality> >& modalities);
+    /** info[i] with the parameters modality i has now (they are public: ColorGradient's
+    members, ColorHue::setParams); a modality without a fast path is not looked at again. */
+    ModalityInfo currentInfo(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
+                             int i) const;
 };
 
 /** Checks the sources (and optional masks) of a frame or template against the modalities:

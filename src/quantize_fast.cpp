@@ -23,6 +23,7 @@
 #include "precomp.hpp"
 #include "quantize_fast.hpp"
 #include "validator.hpp"
+#include "search_index.hpp"
 
 #include "opencv2/core/hal/hal.hpp"
 #include "opencv2/core/hal/intrin.hpp"
@@ -1201,6 +1202,113 @@ void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
 // ------------------------------------------------------------------------------------------
 // Spreading and response maps
 
+namespace {
+
+// d[c] = OR of s[c .. c + T) for c < cols; s readable (zeros past the image) up to cols + T - 1.
+void orWindowRow(const uchar* s, int cols, int T, uchar* d)
+{
+    int c = 0;
+#if CV_SIMD128
+    for (; c <= cols - 16; c += 16)
+    {
+        v_uint8x16 acc = v_load(s + c);
+        for (int k = 1; k < T; ++k)
+            acc |= v_load(s + c + k);
+        v_store(d + c, acc);
+    }
+#endif
+    for (; c < cols; ++c)
+    {
+        uchar acc = 0;
+        for (int k = 0; k < T; ++k)
+            acc |= s[c + k];
+        d[c] = acc;
+    }
+}
+
+// d[c] = OR of the n >= 1 rows first[k * step + c], c < cols.
+void orRows(const uchar* first, size_t step, int n, int cols, uchar* d)
+{
+    int c = 0;
+#if CV_SIMD128
+    for (; c <= cols - 16; c += 16)
+    {
+        v_uint8x16 acc = v_load(first + c);
+        for (int k = 1; k < n; ++k)
+            acc |= v_load(first + k * step + c);
+        v_store(d + c, acc);
+    }
+#endif
+    for (; c < cols; ++c)
+    {
+        uchar acc = 0;
+        for (int k = 0; k < n; ++k)
+            acc |= first[k * step + c];
+        d[c] = acc;
+    }
+}
+
+// response[o] = 4 - (circular distance from o to the nearest label present), 0 beyond 3: the
+// number of the nested label sets {o}, {o, o+-1}, {o..o+-2}, {o..o+-3} that meet the pixel.
+struct ResponseTables
+{
+    uchar within[8][4]; //!< the labels at circular distance <= d of o
+    uchar lut[8][256];  //!< the response itself, for the scalar path
+    ResponseTables()
+    {
+        for (int o = 0; o < 8; ++o)
+        {
+            uchar m = 0;
+            for (int d = 0; d < 4; ++d)
+            {
+                m |= (uchar)((1 << ((o + d) & 7)) | (1 << ((o - d + 8) & 7)));
+                within[o][d] = m;
+            }
+        }
+        for (int o = 0; o < 8; ++o)
+            for (int x = 0; x < 256; ++x)
+            {
+                int v = 0;
+                for (int d = 0; d < 4; ++d)
+                    v += (x & within[o][d]) ? 1 : 0;
+                lut[o][x] = (uchar)v;
+            }
+    }
+};
+
+const ResponseTables& responseTables()
+{
+    static const ResponseTables tables;
+    return tables;
+}
+
+// The 8 responses of `cols` spread labels.
+void responseRow(const ResponseTables& t, const uchar* s, int cols, uchar* const* d)
+{
+    int c = 0;
+#if CV_SIMD128
+    const v_uint8x16 z = v_setzero_u8(), four = v_setall_u8(4);
+    for (; c <= cols - 16; c += 16)
+    {
+        const v_uint8x16 x = v_load(s + c);
+        for (int o = 0; o < 8; ++o)
+        {
+            // each empty set adds 0xFF (-1)
+            v_uint8x16 v = v_add_wrap(four, (x & v_setall_u8(t.within[o][0])) == z);
+            v = v_add_wrap(v, (x & v_setall_u8(t.within[o][1])) == z);
+            v = v_add_wrap(v, (x & v_setall_u8(t.within[o][2])) == z);
+            v = v_add_wrap(v, (x & v_setall_u8(t.within[o][3])) == z);
+            v_store(d[o] + c, v);
+        }
+    }
+#endif
+    for (; c < cols; ++c)
+        for (int o = 0; o < 8; ++o)
+            d[o][c] = t.lut[o][s[c]];
+}
+
+} // namespace
+
 void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad)
 {
     CV_Assert(src.type() == CV_8UC1 && T > 0 && pad >= 0);
@@ -1217,54 +1325,16 @@ void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad)
         for (int r = h0; r < h1; ++r)
         {
             memcpy(&line[0], src.ptr<uchar>(r), scols);
-            const uchar* s = &line[0];
-            uchar* d = horiz.ptr<uchar>(r - h0);
-            int c = 0;
-#if CV_SIMD128
-            for (; c <= cols - 16; c += 16)
-            {
-                v_uint8x16 acc = v_load(s + c);
-                for (int k = 1; k < T; ++k)
-                    acc |= v_load(s + c + k);
-                v_store(d + c, acc);
-            }
-#endif
-            for (; c < cols; ++c)
-            {
-                uchar acc = 0;
-                for (int k = 0; k < T; ++k)
-                    acc |= s[c + k];
-                d[c] = acc;
-            }
+            orWindowRow(&line[0], cols, T, horiz.ptr<uchar>(r - h0));
         }
         for (int r = range.start; r < range.end; ++r)
         {
             uchar* d = dst.ptr<uchar>(r);
             const int n = std::min(T, srows - r); // source rows [r, r + n)
             if (n <= 0)
-            {
                 memset(d, 0, cols);
-                continue;
-            }
-            const uchar* first = horiz.ptr<uchar>(r - h0);
-            const size_t step = horiz.step;
-            int c = 0;
-#if CV_SIMD128
-            for (; c <= cols - 16; c += 16)
-            {
-                v_uint8x16 acc = v_load(first + c);
-                for (int k = 1; k < n; ++k)
-                    acc |= v_load(first + k * step + c);
-                v_store(d + c, acc);
-            }
-#endif
-            for (; c < cols; ++c)
-            {
-                uchar acc = 0;
-                for (int k = 0; k < n; ++k)
-                    acc |= first[k * step + c];
-                d[c] = acc;
-            }
+            else
+                orRows(horiz.ptr<uchar>(r - h0), horiz.step, n, cols, d);
         }
     }, nstripes);
 }
@@ -1275,58 +1345,134 @@ void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response)
     response.resize(8);
     for (int o = 0; o < 8; ++o)
         response[o].create(spread.size(), CV_8U);
-    // response[o] = 4 - (circular distance from o to the nearest label present), 0 beyond 3:
-    // the number of the nested label sets {o}, {o, o+-1}, {o..o+-2}, {o..o+-3} that meet the pixel
-    uchar within[8][4];
-    for (int o = 0; o < 8; ++o)
-    {
-        uchar m = 0;
-        for (int d = 0; d < 4; ++d)
-        {
-            m |= (uchar)((1 << ((o + d) & 7)) | (1 << ((o - d + 8) & 7)));
-            within[o][d] = m;
-        }
-    }
-    uchar lut[8][256]; // the same, for the scalar path
-    for (int o = 0; o < 8; ++o)
-        for (int x = 0; x < 256; ++x)
-        {
-            int v = 0;
-            for (int d = 0; d < 4; ++d)
-                v += (x & within[o][d]) ? 1 : 0;
-            lut[o][x] = (uchar)v;
-        }
+    const ResponseTables& tables = responseTables();
     const int rows = spread.rows, cols = spread.cols;
     const int nstripes = stripesFor(rows, cols, 32);
     parallel_for_(Range(0, rows), [&](const Range& range) {
         for (int r = range.start; r < range.end; ++r)
         {
-            const uchar* s = spread.ptr<uchar>(r);
             uchar* d[8];
             for (int o = 0; o < 8; ++o)
                 d[o] = response[o].ptr<uchar>(r);
-            int c = 0;
-#if CV_SIMD128
-            const v_uint8x16 z = v_setzero_u8(), four = v_setall_u8(4);
-            for (; c <= cols - 16; c += 16)
-            {
-                const v_uint8x16 x = v_load(s + c);
-                for (int o = 0; o < 8; ++o)
-                {
-                    // each empty set adds 0xFF (-1)
-                    v_uint8x16 v = v_add_wrap(four, (x & v_setall_u8(within[o][0])) == z);
-                    v = v_add_wrap(v, (x & v_setall_u8(within[o][1])) == z);
-                    v = v_add_wrap(v, (x & v_setall_u8(within[o][2])) == z);
-                    v = v_add_wrap(v, (x & v_setall_u8(within[o][3])) == z);
-                    v_store(d[o] + c, v);
-                }
-            }
-#endif
-            for (; c < cols; ++c)
-                for (int o = 0; o < 8; ++o)
-                    d[o][c] = lut[o][s[c]];
+            responseRow(tables, spread.ptr<uchar>(r), cols, d);
         }
     }, nstripes);
+}
+
+void spreadResponseTile(const Mat& src, int T, Rect tile, Mat& spread, std::vector<Mat>& response)
+{
+    CV_Assert(src.type() == CV_8UC1 && T > 0 && spread.type() == CV_8UC1
+              && spread.size() == src.size() && response.size() == 8);
+    tile &= Rect(0, 0, src.cols, src.rows);
+    if (tile.empty())
+        return;
+    for (int o = 0; o < 8; ++o)
+        CV_Assert(response[o].type() == CV_8UC1 && response[o].size() == src.size());
+    const int x0 = tile.x, y0 = tile.y, w = tile.width;
+    // the source pixels the tile's windows [p, p + T) read: T - 1 more on the right and below
+    const int sx1 = std::min(x0 + w + T - 1, src.cols);
+    const int sy1 = std::min(tile.y + tile.height + T - 1, src.rows);
+    static thread_local std::vector<uchar> line_buf, horiz_buf;
+    line_buf.assign(w + T + 16, 0);
+    const size_t hstep = (size_t)w;
+    if (horiz_buf.size() < hstep * (sy1 - y0) + 16)
+        horiz_buf.resize(hstep * (sy1 - y0) + 16);
+    for (int r = y0; r < sy1; ++r)
+    {
+        memcpy(&line_buf[0], src.ptr<uchar>(r) + x0, sx1 - x0);
+        orWindowRow(&line_buf[0], w, T, &horiz_buf[(r - y0) * hstep]);
+    }
+    const ResponseTables& tables = responseTables();
+    for (int r = y0; r < tile.y + tile.height; ++r)
+    {
+        uchar* s = spread.ptr<uchar>(r) + x0;
+        orRows(&horiz_buf[(r - y0) * hstep], hstep, std::min(T, src.rows - r), w, s);
+        uchar* d[8];
+        for (int o = 0; o < 8; ++o)
+            d[o] = response[o].ptr<uchar>(r) + x0;
+        responseRow(tables, s, w, d);
+    }
+}
+
+void dominantLabelsFast(const Mat& src, int k, Mat& dst)
+{
+    CV_Assert(src.type() == CV_8UC1 && k >= 1 && k <= 15); // counts of k^2 fit in a byte
+    dst.create(src.size(), CV_8U); // in place when dst already fits (a ROI of a bordered plane)
+    CV_Assert(dst.data != src.data);
+    if (k == 1)
+    {
+        src.copyTo(dst);
+        return;
+    }
+    const int rows = src.rows, cols = src.cols, a = k / 2; // window [x - a, x - a + k)
+    const int nstripes = stripesFor(rows, cols, 16);
+    parallel_for_(Range(0, rows), [&](const Range& range) {
+        // per bit: the column sums of the window's rows, with k - 1 zero columns around
+        const int padded = cols + k + 16;
+        std::vector<uchar> colsum_buf((size_t)padded, 0), best_buf((size_t)cols + 16);
+        uchar* colsum = &colsum_buf[0] + a;
+        uchar* best = &best_buf[0];
+        for (int y = range.start; y < range.end; ++y)
+        {
+            const int r0 = std::max(0, y - a), r1 = std::min(rows, y - a + k);
+            uchar* d = dst.ptr<uchar>(y);
+            memset(best, 0, cols);
+            memset(d, 0, cols);
+            for (int b = 0; b < 8; ++b)
+            {
+                const uchar bit = (uchar)(1 << b);
+                int x = 0;
+#if CV_SIMD128
+                const v_uint8x16 vbit = v_setall_u8(bit);
+                for (; x <= cols - 16; x += 16)
+                {
+                    v_uint8x16 acc = v_setzero_u8();
+                    for (int r = r0; r < r1; ++r) // a set bit gives 0xFF: subtracting adds 1
+                        acc = v_sub_wrap(acc, (v_load(src.ptr<uchar>(r) + x) & vbit) == vbit);
+                    v_store(colsum + x, acc);
+                }
+#endif
+                for (; x < cols; ++x)
+                {
+                    int acc = 0;
+                    for (int r = r0; r < r1; ++r)
+                        acc += (src.ptr<uchar>(r)[x] & bit) ? 1 : 0;
+                    colsum[x] = (uchar)acc;
+                }
+                // the window's count; a larger count than the bits before takes the pixel
+                const uchar* first = colsum - a;
+                x = 0;
+#if CV_SIMD128
+                for (; x <= cols - 16; x += 16)
+                {
+                    v_uint8x16 cnt = v_load(first + x);
+                    for (int j = 1; j < k; ++j)
+                        cnt += v_load(first + x + j);
+                    const v_uint8x16 bc = v_load(best + x);
+                    const v_uint8x16 gt = cnt > bc;
+                    v_store(best + x, v_select(gt, cnt, bc));
+                    v_store(d + x, v_select(gt, vbit, v_load(d + x)));
+                }
+#endif
+                for (; x < cols; ++x)
+                {
+                    int cnt = 0;
+                    for (int j = 0; j < k; ++j)
+                        cnt += first[x + j];
+                    if (cnt > best[x])
+                    {
+                        best[x] = (uchar)cnt;
+                        d[x] = bit;
+                    }
+                }
+            }
+        }
+    }, nstripes);
+}
+
+void dominantLabelsReference(const Mat& src, int k, Mat& dst)
+{
+    dominantLabels(src, Mat(), k, dst);
 }
 
 void spreadLabelsReference(const Mat& src, Mat& dst, int T, int pad)

@@ -78,8 +78,22 @@ CV_EXPORTS void quantizeAllLevels(const std::vector<Ptr<cv::linemod::Modality> >
 CV_EXPORTS void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad);
 /** Vectorised, parallel detail::computeResponseMaps(): same signature, same output. */
 CV_EXPORTS void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response);
+/** Spread labels (pad 0) and the 8 response maps of the pixels of `tile` only, written in place
+into `spread` and `response[0..7]` (CV_8UC1, the size of `src`, allocated by the caller): there
+they equal spreadLabelsFast(src, spread, T, 0) and computeResponseMapsFast(spread, response);
+the other pixels are left as they are. Tiles may be computed in parallel (disjoint tiles). */
+CV_EXPORTS void spreadResponseTile(const Mat& src, int T, Rect tile, Mat& spread,
+                                   std::vector<Mat>& response);
 
-/** detail::spreadLabels() and detail::computeResponseMaps() (validator.cpp), exported for the
+/** Vectorised, parallel detail::dominantLabels() without a mask (the forest's label planes):
+dst(p) = the label bit set most often in the k x k window of p (anchor k / 2, zeros outside;
+ties: the lowest bit; 0 where no bit is set). k in [1, 15]. `dst` is written in place when it
+already has src's size and type (a ROI of a bordered plane). */
+CV_EXPORTS void dominantLabelsFast(const Mat& src, int k, Mat& dst);
+/** detail::dominantLabels() without a mask (search_index.cpp), for the tests. */
+CV_EXPORTS void dominantLabelsReference(const Mat& src, int k, Mat& dst);
+
+/** detail::spreadLabels() and detail::computeResponseMaps() (similarity.cpp), exported for the
 tests and the perf tests that compare the fast versions with them. */
 CV_EXPORTS void spreadLabelsReference(const Mat& src, Mat& dst, int T, int pad);
 CV_EXPORTS void computeResponseMapsReference(const Mat& spread, std::vector<Mat>& response);

@@ -7,6 +7,8 @@
 #include "precomp.hpp"
 #include "refine.hpp"
 
+#include <climits>
+
 namespace cv {
 namespace forestmod {
 namespace detail {
@@ -69,6 +71,81 @@ static bool refineOne(const std::vector<LevelMaps>& levels, const TemplatePyrami
     return true;
 }
 
+// A template's feature offsets at one level: smallest and largest x (in .x, .y of lo / hi).
+static void featureExtent(const TemplatePyramid& tp, int l, int M, Point& lo, Point& hi)
+{
+    lo = Point(INT_MAX, INT_MAX);
+    hi = Point(INT_MIN, INT_MIN);
+    for (int m = 0; m < M; ++m)
+    {
+        const std::vector<cv::linemod::Feature>& fs = tp[l * M + m].features;
+        for (size_t k = 0; k < fs.size(); ++k)
+        {
+            lo.x = std::min(lo.x, fs[k].x);
+            lo.y = std::min(lo.y, fs[k].y);
+            hi.x = std::max(hi.x, fs[k].x);
+            hi.y = std::max(hi.y, fs[k].y);
+        }
+    }
+    if (lo.x > hi.x)
+        lo = hi = Point(0, 0);
+}
+
+// One coordinate of one level of refineOne, for every coarser-level coordinate in [lo, hi]:
+// the first and last pixel bestPosition reads (features at [f_lo, f_hi] from each of the 16
+// positions), and the range of the coordinate it returns (one cell before the first position
+// when nothing scores). Each step of refineOne is monotonic in the coordinate.
+static void refineSpan(int lo, int hi, int border, int max_v, int T, int f_lo, int f_hi,
+                       int& read_first, int& read_last, int& next_lo, int& next_hi)
+{
+    const int a = std::min(std::max(lo * 2 + 1, border), max_v);
+    const int b = std::min(std::max(hi * 2 + 1, border), max_v);
+    const int oa = (a / T - 8) * T, ob = (b / T - 8) * T;
+    const int offset = T / 2 + (T % 2 - 1);
+    read_first = oa + f_lo;
+    read_last = ob + 15 * T + f_hi;
+    next_lo = oa - T + offset;
+    next_hi = ob + 15 * T + offset;
+}
+
+void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                       const std::vector<cv::linemod::Match>& matches,
+                       std::vector<std::vector<Rect> >& regions)
+{
+    const int L = scene.coarsestIndex();
+    const int M = static_cast<int>(scene.coarsest().response.size());
+    regions.assign(L, std::vector<Rect>());
+    for (int l = 0; l < L; ++l)
+        regions[l].reserve(matches.size());
+    // the feature extents of the last template seen (the exhaustive search gives its matches
+    // template by template)
+    const TemplatePyramid* last = 0;
+    std::vector<Point> f_lo(L), f_hi(L);
+    for (size_t k = 0; k < matches.size(); ++k)
+    {
+        const cv::linemod::Match& m = matches[k];
+        const TemplatePyramid& tp = pyramids.find(m.class_id)->second[m.template_id];
+        if (&tp != last)
+        {
+            for (int l = 0; l < L; ++l)
+                featureExtent(tp, l, M, f_lo[l], f_hi[l]);
+            last = &tp;
+        }
+        int x_lo = m.x, x_hi = m.x, y_lo = m.y, y_hi = m.y;
+        for (int l = L - 1; l >= 0; --l)
+        {
+            const LevelMaps& lm = scene.levels[l];
+            const int border = 8 * lm.T;
+            int x0, x1, y0, y1;
+            refineSpan(x_lo, x_hi, border, lm.size.width - tp[l * M].width - border, lm.T,
+                       f_lo[l].x, f_hi[l].x, x0, x1, x_lo, x_hi);
+            refineSpan(y_lo, y_hi, border, lm.size.height - tp[l * M].height - border, lm.T,
+                       f_lo[l].y, f_hi[l].y, y0, y1, y_lo, y_hi);
+            regions[l].push_back(Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1));
+        }
+    }
+}
+
 void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
                    const TemplateStore& store, float threshold,
                    std::vector<cv::linemod::Match>& matches)
@@ -94,7 +171,7 @@ void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
     matches.resize(n);
 }
 
-// Every position of one template on the coarsest level, then its refinement.
+// Every position of one template on the coarsest level.
 static void searchTemplate(const ScenePyramid& scene, const TemplatePyramid& tp,
                            const String& class_id, int id, float threshold,
                            std::vector<cv::linemod::Match>& out)
@@ -118,11 +195,6 @@ static void searchTemplate(const ScenePyramid& scene, const TemplatePyramid& tp,
                 out.push_back(cv::linemod::Match(c * T + offset, r * T + offset,
                                                  (raw * 100.f) / (4 * nf) + 0.5f, class_id, id));
         }
-    size_t n = 0;
-    for (size_t k = 0; k < out.size(); ++k)
-        if (refineOne(scene.levels, tp, threshold, 0, DepthTemplate(), out[k]))
-            out[n++] = out[k];
-    out.resize(n);
 }
 
 void matchExhaustive(const ScenePyramid& scene, const ClassPyramids& pyramids,

@@ -18,15 +18,24 @@ namespace forestmod {
 namespace detail {
 
 /** Refines coarse matches up the pyramid (LINEMOD's arithmetic); a match that falls under the
-threshold at some level is dropped. With the scene's depth contexts (ScenePyramid::depth_ctx
-non-empty), each template's depth samples join its score at every level. Keeps the order. */
-void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
-                   const TemplateStore& store, float threshold,
-                   std::vector<cv::linemod::Match>& matches);
+threshold at some level is dropped. The finer levels' maps must be ready where the matches'
+refinementRegions() lie (prepareRefinementLevels()). With the scene's depth contexts
+(ScenePyramid::depth_ctx non-empty), each template's depth samples join its score at every
+level. Keeps the order. */
+CV_EXPORTS void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                              const TemplateStore& store, float threshold,
+                              std::vector<cv::linemod::Match>& matches);
+
+/** Where refineMatches() reads the levels below the coarsest for these coarse matches: per
+level, one rectangle (level pixels) per match that holds every pixel its refinement may read,
+whatever positions the coarser levels give it (what prepareRefinementLevels() computes). */
+CV_EXPORTS void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                                  const std::vector<cv::linemod::Match>& matches,
+                                  std::vector<std::vector<Rect> >& regions);
 
 /** Exhaustive LINEMOD search of the given classes: every template at every position of the
-coarsest level where it fits, then refinement (without depth), class by class, template by
-template. */
+coarsest level where it fits, class by class, template by template; the coarse matches over the
+threshold (refined by refineMatches, without depth: the scene has no depth contexts then). */
 void matchExhaustive(const ScenePyramid& scene, const ClassPyramids& pyramids,
                      const std::vector<String>& classes, float threshold,
                      std::vector<cv::linemod::Match>& matches, MatchCounters& counters);

@@ -2,27 +2,33 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory
 // of this distribution and at http://opencv.org/license.html
 
-// The scene pyramid: the frame's maps, computed once per frame.
+// The scene pyramid: the frame's maps, computed once per frame (the finer levels' spread and
+// response maps on demand, in tiles).
 
 #include "precomp.hpp"
 #include "scene_pyramid.hpp"
 #include "search_index.hpp"
+#include "quantize_fast.hpp"
 
 namespace cv {
 namespace forestmod {
 namespace detail {
 
 void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
-                   const std::vector<int>& T_at_level, const std::vector<Mat>& sources,
-                   const std::vector<Mat>& masks, ScenePyramid& scene,
-                   OutputArrayOfArrays quantized_images)
+                   const ModalityRoles& roles, const std::vector<int>& T_at_level,
+                   const std::vector<Mat>& sources, const std::vector<Mat>& masks,
+                   ScenePyramid& scene, OutputArrayOfArrays quantized_images)
 {
     const int M = static_cast<int>(modalities.size());
     const int levels_n = static_cast<int>(T_at_level.size());
-    scene.levels.assign(levels_n, LevelMaps());
-    std::vector<Ptr<cv::linemod::QuantizedPyramid> > qps(M);
+    const int L = levels_n - 1;
+    std::vector<ModalityInfo> infos(M);
     for (int i = 0; i < M; ++i)
-        qps[i] = modalities[i]->process(sources[i], masks.empty() ? Mat() : masks[i]);
+        infos[i] = roles.currentInfo(modalities, i);
+    std::vector<std::vector<Mat> > quantized; // [level][modality]
+    quantizeAllLevels(modalities, infos, sources, masks, levels_n, quantized);
+    scene.levels.assign(levels_n, LevelMaps());
+    scene.tiles.assign(L, Mat());
     if (quantized_images.needed())
         quantized_images.create(1, levels_n * M, CV_8U);
     for (int l = 0; l < levels_n; ++l)
@@ -30,21 +36,73 @@ void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
         LevelMaps& lm = scene.levels[l];
         lm.T = T_at_level[l];
         lm.pad = 0;
-        lm.quantized.resize(M);
+        lm.quantized = quantized[l];
+        lm.size = lm.quantized[0].size();
         lm.spread.resize(M);
         lm.response.resize(M);
         for (int i = 0; i < M; ++i)
         {
-            if (l > 0)
-                qps[i]->pyrDown();
-            qps[i]->quantize(lm.quantized[i]);
-            lm.size = lm.quantized[i].size();
-            spreadLabels(lm.quantized[i], lm.spread[i], lm.T, lm.pad);
-            computeResponseMaps(lm.spread[i], lm.response[i]);
+            if (l == L)
+            {
+                spreadLabelsFast(lm.quantized[i], lm.spread[i], lm.T, lm.pad);
+                computeResponseMapsFast(lm.spread[i], lm.response[i]);
+            }
+            else
+            {
+                // computed in tiles by prepareRefinementLevels
+                lm.spread[i].create(lm.size, CV_8U);
+                lm.response[i].resize(8);
+                for (int o = 0; o < 8; ++o)
+                    lm.response[i][o].create(lm.size, CV_8U);
+            }
             if (quantized_images.needed())
                 lm.quantized[i].copyTo(quantized_images.getMatRef(l * M + i));
         }
+        if (l < L)
+            scene.tiles[l] = Mat::zeros((lm.size.height + ScenePyramid::TILE_H - 1)
+                                            / ScenePyramid::TILE_H,
+                                        (lm.size.width + ScenePyramid::TILE_W - 1)
+                                            / ScenePyramid::TILE_W,
+                                        CV_8U);
     }
+}
+
+void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<Rect> >& regions)
+{
+    const int TW = ScenePyramid::TILE_W, TH = ScenePyramid::TILE_H;
+    const int L = std::min(scene.coarsestIndex(), static_cast<int>(regions.size()));
+    // the tiles to compute (level, tile column, tile row), marked first: no lock below
+    std::vector<Point3i> todo;
+    for (int l = 0; l < L; ++l)
+    {
+        Mat& grid = scene.tiles[l];
+        const Rect bounds(Point(0, 0), scene.levels[l].size);
+        for (size_t k = 0; k < regions[l].size(); ++k)
+        {
+            const Rect r = regions[l][k] & bounds;
+            if (r.empty())
+                continue;
+            for (int ty = r.y / TH; ty <= (r.y + r.height - 1) / TH; ++ty)
+            {
+                uchar* g = grid.ptr<uchar>(ty);
+                for (int tx = r.x / TW; tx <= (r.x + r.width - 1) / TW; ++tx)
+                    if (!g[tx])
+                    {
+                        g[tx] = 1;
+                        todo.push_back(Point3i(tx, ty, l));
+                    }
+            }
+        }
+    }
+    parallel_for_(Range(0, static_cast<int>(todo.size())), [&](const Range& range) {
+        for (int k = range.start; k < range.end; ++k)
+        {
+            LevelMaps& lm = scene.levels[todo[k].z];
+            const Rect tile(todo[k].x * TW, todo[k].y * TH, TW, TH);
+            for (size_t i = 0; i < lm.quantized.size(); ++i)
+                spreadResponseTile(lm.quantized[i], lm.T, tile, lm.spread[i], lm.response[i]);
+        }
+    });
 }
 
 void forestPlanes(int dominant_window, int border, ScenePyramid& scene)
@@ -58,10 +116,10 @@ void forestPlanes(int dominant_window, int border, ScenePyramid& scene)
     {
         // the forest reads the plain quantized images (one label per point, as the templates it
         // was trained on; spreading would add labels and mislead the splits: doc/forest.md)
-        Mat dominant;
-        dominantLabels(top.quantized[m], Mat(), dominant_window, dominant);
-        copyMakeBorder(dominant, scene.planes[m], border, border, border, border, BORDER_CONSTANT,
-                       Scalar(0));
+        const Size size = top.quantized[m].size();
+        scene.planes[m] = Mat::zeros(size.height + 2 * border, size.width + 2 * border, CV_8U);
+        Mat inner = scene.planes[m](Rect(border, border, size.width, size.height));
+        dominantLabelsFast(top.quantized[m], dominant_window, inner);
         scene.plane_ptr[m] = scene.planes[m].ptr();
     }
     scene.plane_step = M ? scene.planes[0].step : 0;

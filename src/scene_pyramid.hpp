@@ -5,13 +5,17 @@
 // Internal: everything computed from a frame, once (paper: the scene's quantized images; LINEMOD
 // 2.3-2.4): per pyramid level and modality the quantized, spread and response maps; the forest's
 // label planes of the coarsest level; the depth contexts of the refinement levels. Every later
-// stage reads it in place.
+// stage reads it in place. The quantized images of every level and the spread and response maps
+// of the coarsest level cover the whole frame; the finer levels' spread and response maps are
+// computed on demand, in tiles, where refinement will read them (prepareRefinementLevels). The
+// functions marked CV_EXPORTS are exported for the tests only; the header is not installed.
 
 #ifndef OPENCV_FORESTMOD_SCENE_PYRAMID_HPP
 #define OPENCV_FORESTMOD_SCENE_PYRAMID_HPP
 
 #include "similarity.hpp"
 #include "depth_modality.hpp"
+#include "modality_roles.hpp"
 
 #include <vector>
 
@@ -21,7 +25,13 @@ namespace detail {
 
 struct ScenePyramid
 {
-    std::vector<LevelMaps> levels;      //!< level 0 (finest) .. coarsest
+    /** Level 0 (finest) .. coarsest. Below the coarsest level, spread and response maps are
+    allocated at full size but valid only in the tiles marked in `tiles`. */
+    std::vector<LevelMaps> levels;
+    /** Per level below the coarsest: CV_8U grid of TILE_W x TILE_H pixel tiles, 1 where the
+    spread and response maps are computed. */
+    std::vector<Mat> tiles;
+    enum { TILE_W = 64, TILE_H = 32 };
     /** The forest's view of the coarsest level: per modality the dominant labels of the plain
     quantized image (DetectorParams::dominant_window), with a zero border of `border` pixels on
     every side so that a window read never leaves the buffer. Empty without a forest. */
@@ -39,21 +49,29 @@ struct ScenePyramid
     int coarsestIndex() const { return static_cast<int>(levels.size()) - 1; }
 };
 
-/** The modalities' quantized images of every level (process, pyrDown, quantize), spread over
-T and turned into response maps; `quantized_images`, when needed, receives the quantized images
+/** The modalities' quantized images of every level, equal to their process, pyrDown, quantize
+(the fast paths of quantize_fast.hpp for the modalities `roles` recognised, the virtual calls for
+the others); the coarsest level spread over T and turned into response maps; the finer levels'
+maps allocated, no tile computed. `quantized_images`, when needed, receives the quantized images
 as cv::linemod::Detector::match returns them. */
-void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
-                   const std::vector<int>& T_at_level, const std::vector<Mat>& sources,
-                   const std::vector<Mat>& masks, ScenePyramid& scene,
-                   OutputArrayOfArrays quantized_images);
+CV_EXPORTS void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
+                              const ModalityRoles& roles, const std::vector<int>& T_at_level,
+                              const std::vector<Mat>& sources, const std::vector<Mat>& masks,
+                              ScenePyramid& scene, OutputArrayOfArrays quantized_images);
+
+/** Spread and response maps of the levels below the coarsest in every tile that meets one of
+`regions[l]` (rectangles of level-l pixels, clipped to the level), computed in parallel over the
+tiles not computed yet. Equal there to the full-frame computation. */
+CV_EXPORTS void prepareRefinementLevels(ScenePyramid& scene,
+                                        const std::vector<std::vector<Rect> >& regions);
 
 /** The forest's label planes of the coarsest level, bordered by `border` zero pixels. */
-void forestPlanes(int dominant_window, int border, ScenePyramid& scene);
+CV_EXPORTS void forestPlanes(int dominant_window, int border, ScenePyramid& scene);
 
 /** Depth contexts of the refinement levels: at level l a match's position is known to +-T_l / 2
 pixels, so the scene's depth range is taken over squares of that radius (level-0 pixels). */
-void depthContexts(const Mat& depth, const std::vector<int>& T_at_level, int tolerance,
-                   ScenePyramid& scene);
+CV_EXPORTS void depthContexts(const Mat& depth, const std::vector<int>& T_at_level,
+                              int tolerance, ScenePyramid& scene);
 
 } // namespace detail
 } // namespace forestmod

@@ -2,11 +2,14 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory
 // of this distribution and at http://opencv.org/license.html
 
-// The fast quantization (src/quantize_fast.*) against the modalities' own virtual calls, and the
-// fast spreading / response maps against detail::spreadLabels / computeResponseMaps.
+// The fast quantization (src/quantize_fast.*) against the modalities' own virtual calls, the
+// fast spreading / response maps against detail::spreadLabels / computeResponseMaps, and the
+// scene pyramid's on-demand tiles against the full-frame maps.
 
 #include "test_precomp.hpp"
 #include "../src/quantize_fast.hpp"
+#include "../src/scene_pyramid.hpp"
+#include "../src/refine.hpp"
 
 namespace opencv_test { namespace {
 
@@ -533,6 +536,313 @@ TEST(Forestmod_QuantizeFast, response_maps_equal_reference)
             }
         }
     }
+}
+
+TEST(Forestmod_QuantizeFast, dominant_labels_equal_reference)
+{
+    using namespace cv::forestmod::detail;
+    std::vector<Mat> images = quantizedTestImages(); // any bytes: several bits per pixel
+    for (size_t i = 0; i < images.size(); i += 2) // and one-hot labels
+    {
+        Mat onehot(images[i].size(), CV_8U);
+        for (int r = 0; r < onehot.rows; ++r)
+            for (int c = 0; c < onehot.cols; ++c)
+            {
+                const uchar v = images[i].at<uchar>(r, c);
+                onehot.at<uchar>(r, c) = v ? (uchar)(1 << (v & 7)) : 0;
+            }
+        images.push_back(onehot);
+    }
+    for (size_t i = 0; i < images.size(); ++i)
+        for (int k = 1; k <= 9; ++k)
+        {
+            Mat ref, fast;
+            dominantLabelsReference(images[i], k, ref);
+            dominantLabelsFast(images[i], k, fast);
+            EXPECT_EQ(0, differences(ref, fast)) << "image " << i << " k " << k;
+            // in place, into a ROI of a bordered plane
+            Mat plane = Mat::zeros(images[i].rows + 6, images[i].cols + 6, CV_8U);
+            Mat inner = plane(Rect(3, 3, images[i].cols, images[i].rows));
+            dominantLabelsFast(images[i], k, inner);
+            EXPECT_EQ(0, differences(ref, inner)) << "image " << i << " k " << k;
+            EXPECT_EQ(countNonZero(ref), countNonZero(plane));
+        }
+}
+
+TEST(Forestmod_QuantizeFast, tiles_equal_full_frame_maps)
+{
+    using namespace cv::forestmod::detail;
+    const std::vector<Mat> images = quantizedTestImages();
+    ASSERT_GE(images.size(), 5u);
+    RNG rng(11);
+    const int Ts[] = { 1, 2, 5, 8, 11 };
+    for (size_t i = 0; i < images.size(); ++i)
+        for (int T : Ts)
+        {
+            const Mat& q = images[i];
+            Mat spread_full;
+            std::vector<Mat> resp_full;
+            spreadLabelsFast(q, spread_full, T, 0);
+            computeResponseMapsFast(spread_full, resp_full);
+            // unset pixels keep a value no response has
+            Mat spread(q.size(), CV_8U, Scalar(0xEE)), done = Mat::zeros(q.size(), CV_8U);
+            std::vector<Mat> resp(8);
+            for (int o = 0; o < 8; ++o)
+                resp[o] = Mat(q.size(), CV_8U, Scalar(0xEE));
+            for (int k = 0; k < 6; ++k)
+            {
+                // tiles of any size, some over the right or bottom border or outside
+                const Rect tile(rng.uniform(-8, q.cols + 4), rng.uniform(-8, q.rows + 4),
+                                rng.uniform(1, 80), rng.uniform(1, 40));
+                spreadResponseTile(q, T, tile, spread, resp);
+                done(tile & Rect(0, 0, q.cols, q.rows)).setTo(1);
+            }
+            const Mat outside = done == 0;
+            Mat expect = spread_full.clone();
+            expect.setTo(0xEE, outside);
+            EXPECT_EQ(0, differences(expect, spread)) << "image " << i << " T " << T;
+            for (int o = 0; o < 8; ++o)
+            {
+                expect = resp_full[o].clone();
+                expect.setTo(0xEE, outside);
+                EXPECT_EQ(0, differences(expect, resp[o])) << "image " << i << " T " << T
+                                                            << " orientation " << o;
+            }
+        }
+}
+
+// Refinement reads the finer levels only where refinementRegions() says: coarse matches of
+// real templates at random positions (borders included), refined on tiles computed on demand and
+// on maps computed everywhere, threshold 0 (no match dropped, also those whose best position is
+// "none") and 60: the same matches. 2 pyramid levels (few matches: part of level 0 computed) and
+// 3 (the regions of level 0 hold every position level 1 may choose).
+static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, bool partial)
+{
+    using namespace cv::forestmod::detail;
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(linemod::Modality::create("ColorGradient"));
+    mods.push_back(ColorHue::create());
+    const int L = (int)T.size() - 1;
+    cv::linemod::Detector templ_src(mods, T);
+    const Mat train = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000224.png"),
+                             IMREAD_COLOR);
+    const Mat frame = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"),
+                             IMREAD_COLOR);
+    ASSERT_FALSE(train.empty());
+    ASSERT_FALSE(frame.empty());
+    RNG rng(5);
+    ClassPyramids pyramids;
+    std::vector<Mat> train_src(2, train);
+    for (int k = 0; k < 12; ++k)
+    {
+        Mat mask = Mat::zeros(train.size(), CV_8U);
+        const Size s(rng.uniform(30, 100), rng.uniform(30, 100));
+        ellipse(mask, Point(rng.uniform(120, 520), rng.uniform(120, 360)), s, 0, 0, 360,
+                Scalar(255), FILLED);
+        const int id = templ_src.addTemplate(train_src, "obj", mask);
+        if (id >= 0)
+            pyramids["obj"].push_back(templ_src.getTemplates("obj", id));
+    }
+    ASSERT_GE(pyramids["obj"].size(), 8u);
+
+    const ModalityRoles roles = ModalityRoles::of(mods);
+    const std::vector<Mat> sources(2, frame);
+    ScenePyramid on_demand, full;
+    quantizeScene(mods, roles, T, sources, std::vector<Mat>(), on_demand, noArray());
+    quantizeScene(mods, roles, T, sources, std::vector<Mat>(), full, noArray());
+    std::vector<std::vector<Rect> > everything(L);
+    for (int l = 0; l < L; ++l)
+        everything[l].push_back(Rect(Point(0, 0), full.levels[l].size));
+    prepareRefinementLevels(full, everything);
+
+    const Size top = on_demand.coarsest().size;
+    std::vector<linemod::Match> coarse;
+    for (int k = 0; k < num_matches; ++k)
+    {
+        const int id = rng.uniform(0, (int)pyramids["obj"].size());
+        // a third on the left or right border, the rest anywhere
+        int x = rng.uniform(-10, top.width + 10), y = rng.uniform(-10, top.height + 10);
+        if (k % 3 == 0)
+            x = k % 2 ? rng.uniform(-4, 8) : top.width - rng.uniform(-4, 8);
+        coarse.push_back(linemod::Match(x, y, 90.f, "obj", id));
+    }
+    std::vector<std::vector<Rect> > regions;
+    refinementRegions(on_demand, pyramids, coarse, regions);
+    ASSERT_EQ((size_t)L, regions.size());
+    ASSERT_EQ(coarse.size(), regions[0].size());
+    prepareRefinementLevels(on_demand, regions);
+    const int tiles0 = countNonZero(on_demand.tiles[0]);
+    EXPECT_GT(tiles0, 0);
+    if (partial)
+    {
+        EXPECT_LT(tiles0, (int)on_demand.tiles[0].total());
+    }
+
+    TemplateStore store; // no depth samples: refinement does not read it
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        const float thr = pass == 0 ? 0.f : 60.f;
+        std::vector<linemod::Match> a = coarse, b = coarse;
+        refineMatches(on_demand, pyramids, store, thr, a);
+        refineMatches(full, pyramids, store, thr, b);
+        ASSERT_EQ(b.size(), a.size()) << "threshold " << thr;
+        if (pass == 0)
+        {
+            EXPECT_EQ(coarse.size(), a.size());
+        }
+        for (size_t k = 0; k < a.size(); ++k)
+        {
+            EXPECT_EQ(b[k].x, a[k].x) << k;
+            EXPECT_EQ(b[k].y, a[k].y) << k;
+            EXPECT_EQ(b[k].template_id, a[k].template_id) << k;
+            EXPECT_EQ(b[k].similarity, a[k].similarity) << k;
+        }
+    }
+}
+
+TEST(Forestmod_QuantizeFast, refinement_on_tiles_equals_full_maps)
+{
+    expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 6, true);
+    expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 200, false);
+    expectRefinementOnTiles(std::vector<int>{ 4, 6, 8 }, 40, false);
+}
+
+// match() with the scene pyramid's fast paths and on-demand tiles gives the same matches with 1
+// and 4 threads, and its quantized_images are the modalities' own: the golden models (RGB and
+// RGB-D ape), 1 tree and exhaustive, on a shipped frame and a golden RGB-D scene.
+TEST(Forestmod_QuantizeFast, match_same_with_1_and_4_threads)
+{
+    const Mat lmo = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"),
+                           IMREAD_COLOR);
+    const Mat rgb = imread(cvtest::findDataFile("golden/scene0_rgb.png"), IMREAD_COLOR);
+    const Mat depth = imread(cvtest::findDataFile("golden/scene0_depth.png"), IMREAD_UNCHANGED);
+    ASSERT_FALSE(lmo.empty());
+    ASSERT_FALSE(rgb.empty());
+    ASSERT_EQ(CV_16UC1, depth.type());
+    const int old_threads = getNumThreads();
+    size_t compared = 0;
+    for (int rgbd = 0; rgbd < 2; ++rgbd)
+    {
+        cv::forestmod::Detector det;
+        det.load(cvtest::findDataFile(rgbd ? "golden/ape_rgbd.yml.gz" : "golden/ape_rgb.yml.gz"));
+        std::vector<Mat> src;
+        for (const Ptr<linemod::Modality>& m : det.getModalities())
+            src.push_back(m->name() == "DepthNormal" ? depth : (rgbd ? rgb : lmo));
+        for (int exhaustive = 0; exhaustive < 2; ++exhaustive)
+        {
+            DetectorParams p = det.getParams();
+            p.use_forest = !exhaustive;
+            det.setParams(p);
+            std::vector<linemod::Match> one, four;
+            std::vector<Mat> q1, q4;
+            setNumThreads(1);
+            det.match(src, 70.f, one, std::vector<String>(), q1);
+            setNumThreads(4);
+            det.match(src, 70.f, four, std::vector<String>(), q4);
+            setNumThreads(old_threads);
+            ASSERT_EQ(one.size(), four.size()) << "rgbd " << rgbd << " exhaustive " << exhaustive;
+            for (size_t k = 0; k < one.size(); ++k)
+            {
+                EXPECT_EQ(one[k].x, four[k].x);
+                EXPECT_EQ(one[k].y, four[k].y);
+                EXPECT_EQ(one[k].template_id, four[k].template_id);
+                EXPECT_EQ(one[k].similarity, four[k].similarity);
+            }
+            ASSERT_EQ(q1.size(), q4.size());
+            ASSERT_EQ(det.getModalities().size() * det.pyramidLevels(), q1.size());
+            for (size_t k = 0; k < q1.size(); ++k)
+            {
+                EXPECT_EQ(0, differences(q1[k], q4[k])) << "quantized image " << k;
+            }
+            // match()'s quantized_images: what the modalities' own virtual calls give
+            const int M = (int)src.size(), levels = det.pyramidLevels();
+            for (int i = 0; i < M; ++i)
+            {
+                const std::vector<Mat> ref = referenceLevels(det.getModalities()[i], src[i],
+                                                             Mat(), levels);
+                for (int l = 0; l < levels; ++l)
+                {
+                    EXPECT_EQ(0, differences(ref[l], q1[l * M + i])) << "modality " << i
+                                                                     << " level " << l;
+                }
+            }
+            compared += one.size();
+        }
+    }
+    EXPECT_GT(compared, 0u);
+}
+
+// A user's modality (here a ColorGradient subclass, which may override processImpl) goes through
+// its own virtual calls inside match(), with the same matches as the fast path of the plain
+// ColorGradient; the fast path reads a modality's parameters at every frame.
+struct CountingGradient : public linemod::ColorGradient
+{
+    static int calls;
+
+protected:
+    Ptr<linemod::QuantizedPyramid> processImpl(const Mat& src, const Mat& mask) const CV_OVERRIDE
+    {
+        ++calls;
+        return linemod::ColorGradient::processImpl(src, mask);
+    }
+};
+int CountingGradient::calls = 0;
+
+TEST(Forestmod_QuantizeFast, match_user_modality_and_changed_parameters)
+{
+    const Mat train = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000224.png"),
+                             IMREAD_COLOR);
+    const Mat frame = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"),
+                             IMREAD_COLOR);
+    ASSERT_FALSE(train.empty());
+    ASSERT_FALSE(frame.empty());
+    DetectorParams p;
+    p.use_forest = false; // the exhaustive search: no training needed
+    const std::vector<int> T{ 5, 8 };
+    std::vector<Ptr<linemod::Modality> > plain, user;
+    plain.push_back(linemod::Modality::create("ColorGradient"));
+    plain.push_back(ColorHue::create());
+    user.push_back(makePtr<CountingGradient>());
+    user.push_back(ColorHue::create());
+    cv::forestmod::Detector a(plain, T, p), b(user, T, p);
+    RNG rng(9);
+    for (int k = 0; k < 6; ++k)
+    {
+        Mat mask = Mat::zeros(train.size(), CV_8U);
+        ellipse(mask, Point(rng.uniform(150, 490), rng.uniform(150, 330)),
+                Size(rng.uniform(40, 90), rng.uniform(40, 90)), 0, 0, 360, Scalar(255), FILLED);
+        const std::vector<Mat> src(2, train);
+        EXPECT_EQ(a.addTemplate(src, "obj", mask), b.addTemplate(src, "obj", mask));
+    }
+    ASSERT_GT(a.numTemplates(), 0);
+    const std::vector<Mat> src(2, frame);
+    std::vector<linemod::Match> ma, mb;
+    CountingGradient::calls = 0;
+    a.match(src, 60.f, ma);
+    EXPECT_EQ(0, CountingGradient::calls);
+    b.match(src, 60.f, mb);
+    EXPECT_EQ(1, CountingGradient::calls) << "the user's modality keeps its virtual calls";
+    ASSERT_FALSE(ma.empty());
+    ASSERT_EQ(ma.size(), mb.size());
+    for (size_t k = 0; k < ma.size(); ++k)
+    {
+        EXPECT_EQ(ma[k].x, mb[k].x);
+        EXPECT_EQ(ma[k].y, mb[k].y);
+        EXPECT_EQ(ma[k].template_id, mb[k].template_id);
+        EXPECT_EQ(ma[k].similarity, mb[k].similarity);
+    }
+
+    // parameters changed after the detector was made are those of the next frame
+    Ptr<linemod::ColorGradient> g = a.getModalities()[0].dynamicCast<linemod::ColorGradient>();
+    ASSERT_FALSE(g.empty());
+    std::vector<Mat> before, after;
+    a.match(src, 60.f, ma, std::vector<String>(), before);
+    g->weak_threshold = 40.f;
+    a.match(src, 60.f, ma, std::vector<String>(), after);
+    const std::vector<Mat> ref = referenceLevels(g, frame, Mat(), 2);
+    EXPECT_EQ(0, differences(ref[0], after[0]));
+    EXPECT_EQ(0, differences(ref[1], after[2]));
+    EXPECT_GT(differences(before[0], after[0]), 0);
 }
 
 }} // namespace
