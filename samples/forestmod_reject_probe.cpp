@@ -31,9 +31,10 @@ static const char* keys
       "{frames          | 0        | frames from the first (0: all) }"
       "{exhaustive      |          | linear LINEMOD search instead of the forest }"
       "{trees           | 1        | trees of the forest }"
-      "{zero_noise      | -1       | ForestParams::rejector_zero_noise (-1: default) }"
       "{threshold       | 80       | similarity threshold (percent) }"
       "{absence         |          | print P(0) of the label planes on the object / background }"
+      "{weak_threshold  | -1       | --absence: ColorGradient's weak threshold (gradient magnitude) "
+      "of the statistics (-1: the model's, 10 in LINEMOD) }"
       "{verbose v       |          | one line per frame }";
 
 static double boxIoU(const cv::Rect& a, const cv::Rect& b)
@@ -46,9 +47,13 @@ static double boxIoU(const cv::Rect& a, const cv::Rect& b)
 // P(a label plane holds 0 at the coarsest level, 3 x 3 dominant labels) in the central quarter of
 // the object's visible box (objects at least half visible) and outside every object's box.
 static void absenceStats(const fm::Detector& det, const std::vector<fm::Frame>& frames,
-                         int first, int last, int obj_id)
+                         int first, int last, int obj_id, float weak_threshold)
 {
-    const std::vector<cv::Ptr<cv::linemod::Modality> > mods = det.getModalities();
+    std::vector<cv::Ptr<cv::linemod::Modality> > mods = det.getModalities();
+    for (size_t m = 0; m < mods.size(); ++m)
+        if (weak_threshold >= 0.f && mods[m]->name() == "ColorGradient")
+            mods[m] = cv::makePtr<cv::linemod::ColorGradient>(
+                weak_threshold, 63, std::max(55.f, weak_threshold));
     std::vector<double> zin(mods.size(), 0.), zout(mods.size(), 0.);
     double nin = 0, nout = 0;
     for (int i = first; i < last; ++i)
@@ -109,7 +114,6 @@ int main(int argc, char** argv)
     const int obj_id = parser.get<int>("object"), scene = parser.get<int>("scene");
     const int first = parser.get<int>("first"), count = parser.get<int>("frames");
     const int trees = parser.get<int>("trees");
-    const float zero_noise = parser.get<float>("zero_noise");
     const float threshold = parser.get<float>("threshold");
     const bool exhaustive = parser.has("exhaustive"), verbose = parser.has("verbose");
     if (!parser.check() || root.empty() || model.empty() || obj_id <= 0 || first < 0
@@ -146,8 +150,6 @@ int main(int argc, char** argv)
     p.nms_iou = 0;
     p.use_forest = !exhaustive;
     p.forest.num_trees = trees;
-    if (zero_noise >= 0.f)
-        p.forest.rejector_zero_noise = zero_noise;
     det.setParams(p);
     cv::TickMeter train;
     train.start();
@@ -160,7 +162,7 @@ int main(int argc, char** argv)
     const std::vector<fm::Frame> frames = ds.frames(scene);
     const int last = count > 0 ? std::min((int)frames.size(), first + count) : (int)frames.size();
     if (parser.has("absence"))
-        absenceStats(det, frames, first, last, obj_id);
+        absenceStats(det, frames, first, last, obj_id, parser.get<float>("weak_threshold"));
     const int L = det.pyramidLevels() - 1;
     int n = 0, with_gt = 0, hits = 0, kept = 0;
     double rejected = 0, ms = 0;

@@ -110,8 +110,6 @@ static DetectorParams readModelParams(const FileNode& fn)
         p.group_size_ratio = 0.f;
     if (fn["group_templates"].empty())
         p.group_templates = false;
-    if (fn["forest"]["rejector_zero_noise"].empty())
-        p.forest.rejector_zero_noise = 0.f; // before evidence of absence (doc/forest.md)
     return p;
 }
 

@@ -28,7 +28,7 @@ ForestParams::ForestParams()
     : num_trees(3), max_depth(8), min_node_size(8), split_dims(32), pool_size(32),
       fuzzy_margin(1.f), split_coverage(0.5f), rejector_dims(32), rejector_rho(0.f),
       rejector_tau(0.8f), rejector_coverage(0.8f), rejector_noise(0.05f),
-      rejector_zero_noise(0.f), reject_any_tree(false), seed(0)
+      reject_any_tree(false), seed(0)
 {
 }
 
@@ -46,7 +46,6 @@ void ForestParams::read(const FileNode& fn)
     detail::readField(fn, "rejector_tau", rejector_tau);
     detail::readField(fn, "rejector_coverage", rejector_coverage);
     detail::readField(fn, "rejector_noise", rejector_noise);
-    detail::readField(fn, "rejector_zero_noise", rejector_zero_noise);
     detail::readField(fn, "reject_any_tree", reject_any_tree);
     detail::readField(fn, "seed", seed);
 }
@@ -65,7 +64,6 @@ void ForestParams::write(FileStorage& fs) const
     fs << "rejector_tau" << rejector_tau;
     fs << "rejector_coverage" << rejector_coverage;
     fs << "rejector_noise" << rejector_noise;
-    fs << "rejector_zero_noise" << rejector_zero_noise;
     fs << "reject_any_tree" << (int)reject_any_tree;
     fs << "seed" << seed;
 }
@@ -90,8 +88,6 @@ static void checkParams(const ForestParams& p)
              "ForestParams::split_coverage must be in [0, 1]");
     CV_Check(p.rejector_noise, p.rejector_noise >= 0.f && p.rejector_noise < 1.f,
              "ForestParams::rejector_noise must be in [0, 1)");
-    CV_Check(p.rejector_zero_noise, p.rejector_zero_noise >= 0.f && p.rejector_zero_noise < 1.f,
-             "ForestParams::rejector_zero_noise must be in [0, 1)");
 }
 
 void ForestQueryStats::add(const ForestQueryStats& o)
@@ -294,7 +290,6 @@ public:
         rcfg_.tau = p.rejector_tau;
         rcfg_.coverage = p.rejector_coverage;
         rcfg_.noise = p.rejector_noise;
-        rcfg_.zero_noise = p.rejector_zero_noise;
     }
 
     void build(Tree& tree)
@@ -809,8 +804,6 @@ public:
         if (fn["params"].empty())
             CV_Error(Error::StsParseError, "TemplateForest::read: 'params' missing");
         p.read(fn["params"]);
-        if (fn["params"]["rejector_zero_noise"].empty())
-            p.rejector_zero_noise = 0.f; // written before evidence of absence: trained without
         checkParams(p);
         const FileNode fd = fn["dims"], fnn = fn["num_templates"], fds = fn["split_dims_used"],
                        ft = fn["trees"];

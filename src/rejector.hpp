@@ -56,7 +56,6 @@ public:
         float tau;       //!< reject when accepted share < tau
         float coverage;  //!< min share of templates with a label on the mask at a dimension
         float noise;     //!< share of corrupted values a template must survive
-        float zero_noise; //!< same for its 0 values on the mask; > 0: 0 is evidence (absence)
     };
 
     /** Learns the rejector of a node from its templates.

@@ -98,13 +98,6 @@ struct CV_EXPORTS_W_SIMPLE ForestParams
     its own rejectors still accept it with probability 0.999 per node. Default 0.05, measured
     (doc/forest.md): 0.1 keeps more templates and rejects less background. */
     CV_PROP_RW float rejector_noise;
-    /** Evidence of absence: when > 0, "no feature" (0) on a template's mask is a value like a
-    label, so a rejector may require 0 where the node's templates agree that there is no
-    gradient or hue (a white object's interior) and reject windows full of labels there; the
-    value is the share of those 0 values a real view may show as a label (texture, shading,
-    noise) while the template's own rejectors still accept it. 0 = off (0 is never accepted;
-    also for forests of files that lack the key). Default 0: measured in doc/experiments.md. */
-    CV_PROP_RW float rejector_zero_noise;
     /** With several trees: true = a location is rejected when any tree rejects it (the paper:
     "enters validation only if it passes all the rejectors"); false = only when every tree
     rejects it (candidates come from the trees that accept it). Default false, measured
