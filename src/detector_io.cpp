@@ -528,25 +528,39 @@ static std::vector<Ptr<TemplateForest> > readForests(const FileStorage& fs,
 
 void Detector::load(const String& filename)
 {
-    FileStorage fs;
-    openModel(fs, filename);
-    read(fs["detector"]);
-    FileNode classes = fs["classes"];
-    if (classes.empty() || !classes.isSeq())
-        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' has no classes",
-                                         filename.c_str()));
-    for (FileNodeIterator it = classes.begin(); it != classes.end(); ++it)
-        readClass(*it);
-    // the trained forests are read as they are (training a large model takes minutes); the
-    // groups, their windows and the rejection limits are functions of the templates and params
-    const std::vector<Ptr<TemplateForest> > forests = readForests(fs, filename,
-                                                                  impl_->params.forest);
-    if (forests.empty())
-        return;
-    AutoLock lock(impl_->mutex);
-    const int L = pyramid_levels - 1;
-    impl_->index.attach(class_templates, impl_->store, impl_->params, (int)modalities.size(), L,
-                        T_at_level[L], forests, filename);
+    try
+    {
+        FileStorage fs;
+        openModel(fs, filename);
+        read(fs["detector"]);
+        FileNode classes = fs["classes"];
+        if (classes.empty() || !classes.isSeq())
+            CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' has no classes",
+                                             filename.c_str()));
+        for (FileNodeIterator it = classes.begin(); it != classes.end(); ++it)
+            readClass(*it);
+        // the trained forests are read as they are (training a large model takes minutes); the
+        // groups, their windows and the rejection limits are functions of the templates and params
+        const std::vector<Ptr<TemplateForest> > forests = readForests(fs, filename,
+                                                                      impl_->params.forest);
+        if (forests.empty())
+            return;
+        AutoLock lock(impl_->mutex);
+        const int L = pyramid_levels - 1;
+        impl_->index.attach(class_templates, impl_->store, impl_->params, (int)modalities.size(), L,
+                            T_at_level[L], forests, filename);
+    }
+    catch (const cv::Exception&)
+    {
+        throw;
+    }
+    catch (const std::exception& e)
+    {
+        // OpenCV's parsers let some standard exceptions through (std::length_error on a base64
+        // block whose header declares an impossible size, found by fuzzing)
+        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is not a readable "
+                                         "model file: %s", filename.c_str(), e.what()));
+    }
 }
 
 } // namespace forestmod
