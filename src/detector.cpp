@@ -292,7 +292,7 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
         rejection_map = cands.rejection_map;
         // 3. validation: breadth-first, the best survivors of each location
         detail::validateLocations(scene, cands, d.impl.index, d.pyramids, params, threshold,
-                                  matches);
+                                  allowed, matches);
         // 4. pyramid refinement (with the depth samples)
         detail::refineMatches(scene, d.pyramids, d.impl.store, threshold, matches);
     }

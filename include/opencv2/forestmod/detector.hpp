@@ -79,6 +79,16 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     /** Validation stops at this many candidates, which go on to pyramid refinement. Paper and
     default: 1. */
     CV_PROP_RW int max_survivors;
+    /** Bounded worst case: in a frame where a search group's forest lets through more
+    (location, candidate) pairs than this times (its asked-for templates x the positions of the
+    coarsest level's T grid), the group skips validation and its templates are searched
+    exhaustively, every template at every position of the T grid as cv::linemod does (its
+    linearized memories, one SIMD add per feature over all positions); its coarse matches are
+    then cv::linemod's (every position over the threshold) and go on to refinement with the
+    others. A validated pair costs about as much as this many exhaustive (position, template)
+    pairs, so the frame costs at most about what cv::linemod costs. 0: every group exhaustive
+    (forests unused); negative: never. Default 0.1 (doc/detector.md, "Bounded worst case"). */
+    CV_PROP_RW float exhaustive_ratio;
 
     // ---- depth modality (paper: depth "as another modality in the validation stage") ----
     /** With a DepthNormal modality, addTemplate keeps up to this many depth samples per template;
