@@ -160,48 +160,102 @@ bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int le
     return true;
 }
 
-// Every allowed template of the exhaustive groups at every position: cv::linemod's coarse
-// matches (a raw score over the threshold), template by template.
+namespace {
+// A template at a position of the T grid: ranked by raw / total, then by index row (a total
+// order: the best ones of a position do not depend on the order templates are scored in).
+struct Scored
+{
+    int raw, total, row;
+    bool better(const Scored& o) const
+    {
+        const int64 a = (int64)raw * o.total, b = (int64)o.raw * total;
+        return a != b ? a > b : row < o.row;
+    }
+};
+} // namespace
+
+// Inserts `s` into the best-first list `top` of k entries (empty entries have row -1).
+static void keepBest(Scored* top, int k, const Scored& s)
+{
+    if (top[k - 1].row >= 0 && !s.better(top[k - 1]))
+        return;
+    int i = k - 1;
+    while (i > 0 && (top[i - 1].row < 0 || s.better(top[i - 1])))
+    {
+        top[i] = top[i - 1];
+        --i;
+    }
+    top[i] = s;
+}
+
+// Every asked-for template of the exhaustive groups at every position of the T grid (cv::linemod's
+// positions and scores); like a location of the forest path, each position keeps its best
+// max_survivors templates over the threshold as coarse matches (row-major positions, best first).
 static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
                              const ClassPyramids& pyramids, const std::vector<int>& rows,
-                             float threshold, std::vector<cv::linemod::Match>& out)
+                             float threshold, int max_survivors,
+                             std::vector<cv::linemod::Match>& out)
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
     const int M = static_cast<int>(top.response.size());
     const int T = top.T;
+    const int K = max_survivors;
     const int offset = T / 2 + (T % 2 - 1);
     LinearMemories lm;
     lm.build(top);
+    const int P = lm.cells_x * lm.cells_y;
     const int n = static_cast<int>(rows.size());
-    std::vector<std::vector<cv::linemod::Match> > per(n);
-    parallel_for_(Range(0, n), [&](const Range& range) {
+    // templates in a fixed number of blocks, each with its own best lists, merged afterwards
+    const int blocks = std::max(1, std::min(n, 4 * getNumThreads()));
+    Scored none = { 0, 1, -1 };
+    std::vector<std::vector<Scored> > best(blocks, std::vector<Scored>((size_t)P * K, none));
+    parallel_for_(Range(0, blocks), [&](const Range& range) {
         std::vector<ushort> scores;
         std::vector<uchar> acc8;
-        for (int i = range.start; i < range.end; ++i)
+        for (int b = range.start; b < range.end; ++b)
         {
-            const TemplateRef& ref = index.rows[rows[i]];
-            const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
-            int span_x = 0, span_y = 0;
-            if (!scoreEverywhere(lm, tp, L, M, span_x, span_y, scores, acc8))
-                continue;
-            const int nf = numFeatures(tp, L, M);
-            const int raw_thr = rawThreshold(threshold, nf);
-            for (int r = 0; r <= span_y; ++r)
+            Scored* bb = &best[b][0];
+            for (int i = (int)((int64)n * b / blocks); i < (int)((int64)n * (b + 1) / blocks); ++i)
             {
-                const ushort* s = &scores[(size_t)r * lm.stride];
-                for (int c = 0; c <= span_x; ++c)
+                const TemplateRef& ref = index.rows[rows[i]];
+                const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
+                int span_x = 0, span_y = 0;
+                if (!scoreEverywhere(lm, tp, L, M, span_x, span_y, scores, acc8))
+                    continue;
+                Scored sc;
+                sc.total = numFeatures(tp, L, M);
+                sc.row = rows[i];
+                const int raw_thr = rawThreshold(threshold, sc.total);
+                for (int r = 0; r <= span_y; ++r)
                 {
-                    if (s[c] > raw_thr)
-                        per[i].push_back(cv::linemod::Match(c * T + offset, r * T + offset,
-                                                            (s[c] * 100.f) / (4 * nf) + 0.5f,
-                                                            ref.class_id, ref.template_id));
+                    const ushort* s = &scores[(size_t)r * lm.stride];
+                    for (int c = 0; c <= span_x; ++c)
+                        if (s[c] > raw_thr)
+                        {
+                            sc.raw = s[c];
+                            keepBest(bb + (size_t)(r * lm.cells_x + c) * K, K, sc);
+                        }
                 }
             }
         }
     });
-    for (int i = 0; i < n; ++i)
-        out.insert(out.end(), per[i].begin(), per[i].end());
+    for (int b = 1; b < blocks; ++b)
+        for (int p = 0; p < P; ++p)
+            for (int k = 0; k < K && best[b][(size_t)p * K + k].row >= 0; ++k)
+                keepBest(&best[0][(size_t)p * K], K, best[b][(size_t)p * K + k]);
+    for (int p = 0; p < P; ++p)
+        for (int k = 0; k < K; ++k)
+        {
+            const Scored& sc = best[0][(size_t)p * K + k];
+            if (sc.row < 0)
+                break;
+            const TemplateRef& ref = index.rows[sc.row];
+            const int c = p % lm.cells_x, r = p / lm.cells_x;
+            out.push_back(cv::linemod::Match(c * T + offset, r * T + offset,
+                                             (sc.raw * 100.f) / (4 * sc.total) + 0.5f,
+                                             ref.class_id, ref.template_id));
+        }
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -426,6 +480,8 @@ static void prepareContext(const ScenePyramid& scene, const LocationCandidates& 
                                                    std::max(half.y - fs[i].y, fs[i].y - half.y)));
         }
     }
+    if (ctx.rows.empty())
+        return;
     ctx.maps.build(top, border + 1);
     const int n = static_cast<int>(ctx.rows.size());
     ctx.begin.resize((size_t)n * (M + 1));
@@ -449,39 +505,23 @@ void validateLocations(const ScenePyramid& scene, const LocationCandidates& cand
 {
     const LevelMaps& top = scene.coarsest();
     coarse.clear();
-    // per search group: (location, candidate) pairs its forest let through
-    std::vector<int> group_of(index.rows.size(), -1);
-    for (size_t g = 0; g < index.groups.size(); ++g)
-        for (size_t k = 0; k < index.groups[g].rows.size(); ++k)
-            group_of[index.groups[g].rows[k]] = static_cast<int>(g);
-    std::vector<int64> pairs(index.groups.size(), 0), templates(index.groups.size(), 0);
-    for (size_t k = 0; k < cands.rows.size(); ++k)
-        pairs[group_of[cands.rows[k]]]++;
-    for (size_t r = 0; r < index.rows.size(); ++r)
-        if (row_allowed[r] && group_of[r] >= 0)
-            templates[group_of[r]]++;
-    // the groups searched exhaustively: more pairs than exhaustive_ratio x (asked-for templates
-    // x positions of the T grid); all their asked-for templates are then searched everywhere
-    const int64 positions = (int64)(top.size.width / top.T) * (top.size.height / top.T);
+    // the groups the scan left to the exhaustive search: all their asked-for templates
     std::vector<uchar> skip_row(index.rows.size(), 0);
     std::vector<int> dense_rows;
     int dense_groups = 0;
-    if (params.exhaustive_ratio >= 0.f)
-        for (size_t g = 0; g < index.groups.size(); ++g)
-        {
-            if (templates[g] == 0 || (pairs[g] == 0 && params.exhaustive_ratio > 0.f))
-                continue;
-            if ((double)pairs[g] <= params.exhaustive_ratio * (double)templates[g] * positions)
-                continue;
-            ++dense_groups;
-            const SearchGroup& grp = index.groups[g];
-            for (size_t k = 0; k < grp.rows.size(); ++k)
-                if (row_allowed[grp.rows[k]])
-                {
-                    skip_row[grp.rows[k]] = 1;
-                    dense_rows.push_back(grp.rows[k]);
-                }
-        }
+    for (size_t g = 0; g < cands.exhaustive.size(); ++g)
+    {
+        if (!cands.exhaustive[g])
+            continue;
+        ++dense_groups;
+        const SearchGroup& grp = index.groups[g];
+        for (size_t k = 0; k < grp.rows.size(); ++k)
+            if (row_allowed[grp.rows[k]])
+            {
+                skip_row[grp.rows[k]] = 1;
+                dense_rows.push_back(grp.rows[k]);
+            }
+    }
     if (exhaustive_groups)
         *exhaustive_groups = dense_groups;
 
@@ -503,7 +543,8 @@ void validateLocations(const ScenePyramid& scene, const LocationCandidates& cand
     for (int b = 0; b < blocks; ++b)
         coarse.insert(coarse.end(), per_block[b].begin(), per_block[b].end());
     if (!dense_rows.empty())
-        searchExhaustive(scene, index, pyramids, dense_rows, threshold, coarse);
+        searchExhaustive(scene, index, pyramids, dense_rows, threshold, params.max_survivors,
+                         coarse);
 }
 
 } // namespace detail
