@@ -81,13 +81,14 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_PROP_RW int max_survivors;
     /** Bounded worst case: in a frame where a search group's forest lets through more
     (location, candidate) pairs than this times (its asked-for templates x the positions of the
-    coarsest level's T grid), the group skips validation and its templates are searched
-    exhaustively, every template at every position of the T grid as cv::linemod does (its
-    linearized memories, one SIMD add per feature over all positions); its coarse matches are
-    then cv::linemod's (every position over the threshold) and go on to refinement with the
-    others. A validated pair costs about as much as this many exhaustive (position, template)
-    pairs, so the frame costs at most about what cv::linemod costs. 0: every group exhaustive
-    (forests unused); negative: never. Default 0.1 (doc/detector.md, "Bounded worst case"). */
+    coarsest level's T grid), estimated on every 8th row of locations, the group leaves the scan
+    and its templates are searched exhaustively as cv::linemod does (linearized memories, one
+    SIMD add per feature over all positions of the T grid); each position keeps its best
+    max_survivors templates over the threshold as coarse matches, like a location of the forest
+    path. A validated pair costs about as much as 20-50 exhaustive (position, template) pairs,
+    so the frame costs at most about what cv::linemod's search of the same templates costs. 0:
+    every group exhaustive (no traversal); negative: never. Default 0.05 (doc/detector.md,
+    "Bounded worst case"). */
     CV_PROP_RW float exhaustive_ratio;
 
     // ---- depth modality (paper: depth "as another modality in the validation stage") ----
