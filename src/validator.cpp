@@ -301,6 +301,20 @@ static inline int sumAt(const uchar* p, const int* off, int n)
     return s0 + s1;
 }
 
+void scoreAt(const PaddedResponses& maps, const TemplatePyramid& templ, int level_index,
+             const std::vector<Point>& tls, std::vector<int>& raw)
+{
+    std::vector<int> begin(maps.modalities + 1), offsets;
+    maps.featureOffsets(templ, level_index, &begin[0], offsets);
+    raw.resize(tls.size());
+    const int n = static_cast<int>(offsets.size());
+    for (size_t i = 0; i < tls.size(); ++i)
+    {
+        CV_DbgAssert(tls[i].x >= -maps.border && tls[i].y >= -maps.border);
+        raw[i] = n ? sumAt(&maps.data[0] + maps.at(tls[i].x, tls[i].y), &offsets[0], n) : 0;
+    }
+}
+
 // Adds chunk k of K of a candidate: the fraction [k/K, (k+1)/K) of every modality's features, so
 // that every chunk samples all modalities and the whole object (features are scattered).
 static void scoreChunk(const ValidationContext& ctx, Candidate& c, int k, int K)

@@ -7,7 +7,9 @@
 // breadth-first; the best survivors over the threshold become coarse matches. A search group
 // whose forest let through too many (location, candidate) pairs in a frame is searched
 // exhaustively instead, with LINEMOD's linearized memories (DetectorParams::exhaustive_ratio):
-// the frame then costs at most what cv::linemod's search of the same templates costs.
+// the frame then costs at most what cv::linemod's search of the same templates costs. The
+// layouts and scoring functions are exported (CV_EXPORTS) for the tests and perf tests only;
+// the header is not installed.
 
 #ifndef OPENCV_FORESTMOD_VALIDATOR_HPP
 #define OPENCV_FORESTMOD_VALIDATOR_HPP
@@ -25,7 +27,7 @@ namespace detail {
 border, so that a feature is one read without bounds checks: the response of label o of
 modality m at (x, y) is data[(m * 8 + o) * plane + (y + border) * width + x + border]. A read
 in the border gives 0, as LINEMOD's skipping of features outside the image. */
-struct PaddedResponses
+struct CV_EXPORTS PaddedResponses
 {
     std::vector<uchar> data;
     int border;
@@ -50,7 +52,7 @@ the cells' pixels (cx T + dx, cy T + dy) in one row-major array of `stride` x `r
 cell more than the level's cells_x x cells_y each way, for features on a template's far edge;
 pixels outside the image read 0). A feature then adds one contiguous run to the scores of all
 positions (c T, r T) of a template at once. */
-struct LinearMemories
+struct CV_EXPORTS LinearMemories
 {
     std::vector<uchar> data;
     int T;
@@ -73,9 +75,15 @@ struct LinearMemories
 (c <= span_x, r <= span_y, LINEMOD's positions), vectorised as cv::linemod: one SIMD add per
 feature over all positions, 8-bit sums of up to 63 features widened into 16-bit ones.
 `scores[r * stride + c]`; returns false when the template fits nowhere. `acc8` is scratch. */
-bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
-                     int num_modalities, int& span_x, int& span_y, std::vector<ushort>& scores,
-                     std::vector<uchar>& acc8);
+CV_EXPORTS bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp,
+                                int level_index, int num_modalities, int& span_x, int& span_y,
+                                std::vector<ushort>& scores, std::vector<uchar>& acc8);
+
+/** The forest path's scoring without its bookkeeping (tests, perf tests): raw[i] = the raw score
+of all features of `templ` with its top-left at tls[i], read from `maps` (every tl within
+maps.border of the level). */
+CV_EXPORTS void scoreAt(const PaddedResponses& maps, const TemplatePyramid& templ,
+                        int level_index, const std::vector<Point>& tls, std::vector<int>& raw);
 
 /** The validation stage: every location's candidates validated (breadth_first or all), the best
 max_survivors of each over the threshold as coarse matches (positions of the coarsest level as
