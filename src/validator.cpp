@@ -85,6 +85,9 @@ void LinearMemories::build(const LevelMaps& level)
 // ------------------------------------------------------------------------------------------------
 // The exhaustive path: one template at every position, as cv::linemod
 
+// 16-bit sums: at most this many features (4 each)
+static const int kMaxSum16 = 65535 / 4;
+
 // dst[0 .. n) += src[0 .. n), 8-bit (the caller keeps the sum under 256)
 static void addRun8(uchar* dst, const uchar* src, int n)
 {
@@ -188,6 +191,54 @@ static void keepBest(Scored* top, int k, const Scored& s)
     top[i] = s;
 }
 
+bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                int num_modalities, int ox, int oy, int* scores)
+{
+    const int T = lm.T, M = num_modalities;
+    if (ox < 0 || oy < 0 || ox % T || oy % T || numFeatures(tp, level_index, M) > kMaxSum16)
+        return false;
+    const int cx = ox / T, cy = oy / T;
+    for (int m = 0; m < M; ++m)
+    {
+        const cv::linemod::Template& t = tp[level_index * M + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const cv::linemod::Feature& f = t.features[i];
+            if (f.x < 0 || f.y < 0 || cx + f.x / T + 16 > lm.stride
+                || cy + f.y / T + 16 > lm.rows)
+                return false;
+        }
+    }
+    ushort acc[256];
+    std::fill(acc, acc + 256, (ushort)0);
+    for (int m = 0; m < M; ++m)
+    {
+        const cv::linemod::Template& t = tp[level_index * M + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const cv::linemod::Feature& f = t.features[i];
+            const uchar* src = lm.memory(m, f.label, f.x % T, f.y % T)
+                + (cy + f.y / T) * lm.stride + cx + f.x / T;
+            for (int r = 0; r < 16; ++r, src += lm.stride)
+            {
+                ushort* a = acc + r * 16;
+#if CV_SIMD128
+                v_uint16x8 lo, hi;
+                v_expand(v_load(src), lo, hi);
+                v_store(a, v_load(a) + lo);
+                v_store(a + 8, v_load(a + 8) + hi);
+#else
+                for (int c = 0; c < 16; ++c)
+                    a[c] = (ushort)(a[c] + src[c]);
+#endif
+            }
+        }
+    }
+    for (int k = 0; k < 256; ++k)
+        scores[k] = acc[k];
+    return true;
+}
+
 // Every asked-for template of the exhaustive groups at every position of the T grid (cv::linemod's
 // positions and scores); like a location of the forest path, each position keeps its best
 // max_survivors templates over the threshold as coarse matches (row-major positions, best first).
@@ -221,10 +272,23 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
                 const TemplateRef& ref = index.rows[rows[i]];
                 const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
                 int span_x = 0, span_y = 0;
-                if (!scoreEverywhere(lm, tp, L, M, span_x, span_y, scores, acc8))
-                    continue;
                 Scored sc;
                 sc.total = numFeatures(tp, L, M);
+                if (sc.total > kMaxSum16) // beyond 16-bit sums (hostile model files only)
+                {
+                    const cv::linemod::Template& t0 = tp[L * M];
+                    span_x = lm.cells_x - ((t0.width - 1) / T + 1);
+                    span_y = lm.cells_y - ((t0.height - 1) / T + 1);
+                    if (span_x < 0 || span_y < 0)
+                        continue;
+                    scores.assign((size_t)(span_y + 1) * lm.stride, 0);
+                    for (int r = 0; r <= span_y; ++r)
+                        for (int c = 0; c <= span_x; ++c)
+                            scores[(size_t)r * lm.stride + c] = (ushort)std::min(
+                                65535, similarityAll(top, tp, L, Point(c * T, r * T)));
+                }
+                else if (!scoreEverywhere(lm, tp, L, M, span_x, span_y, scores, acc8))
+                    continue;
                 sc.row = rows[i];
                 const int raw_thr = rawThreshold(threshold, sc.total);
                 for (int r = 0; r <= span_y; ++r)

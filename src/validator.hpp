@@ -74,10 +74,18 @@ struct CV_EXPORTS LinearMemories
 /** Raw scores of a template at every position (c T, r T) of the coarsest level where it fits
 (c <= span_x, r <= span_y, LINEMOD's positions), vectorised as cv::linemod: one SIMD add per
 feature over all positions, 8-bit sums of up to 63 features widened into 16-bit ones.
-`scores[r * stride + c]`; returns false when the template fits nowhere. `acc8` is scratch. */
+`scores[r * stride + c]`; returns false when the template fits nowhere. `acc8` is scratch. At
+most 16383 features (16-bit sums). */
 CV_EXPORTS bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp,
                                 int level_index, int num_modalities, int& span_x, int& span_y,
                                 std::vector<ushort>& scores, std::vector<uchar>& acc8);
+
+/** LINEMOD's local search of the pyramid refinement, vectorised: raw scores of a template at the
+16 x 16 positions (ox + c T, oy + r T), c, r = 0..15, of the level `lm` linearizes (ox, oy
+multiples of T), scores[r * 16 + c]; the same sums as similarityAll there. Returns false (and
+scores nothing) when a read would leave the memories: the caller then scores in place. */
+CV_EXPORTS bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                           int num_modalities, int ox, int oy, int* scores);
 
 /** The forest path's scoring without its bookkeeping (tests, perf tests): raw[i] = the raw score
 of all features of `templ` with its top-left at tls[i], read from `maps` (every tl within

@@ -4,8 +4,8 @@
 
 // The validator's fast paths against LINEMOD's similarity read in place (detail::similarityAll):
 // the forest path's zero-bordered maps (scoreAt) at any top-left, in or partly out of the image,
-// and the exhaustive path's linearized memories (scoreEverywhere) at every position of the T grid,
-// with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included.
+// the exhaustive path's linearized memories (scoreEverywhere) at every position of the T grid and
+// the refinement's local search (scoreLocal), with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included.
 
 #include "test_precomp.hpp"
 #include "../src/validator.hpp"
@@ -91,6 +91,18 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
                     ++compared;
                     nonzero += ref > 0;
                 }
+            // the refinement's local search: 16 x 16 positions of the T grid
+            int local[256];
+            const int ox = 8 * rng.uniform(0, 3), oy = 8 * rng.uniform(0, 3);
+            if (scoreLocal(lm, tp, 0, 2, ox, oy, local))
+            {
+                for (int k = 0; k < 256; ++k)
+                    ASSERT_EQ(similarityAll(level, tp, 0, Point(ox + k % 16 * 8, oy + k / 16 * 8)),
+                              local[k]) << size << " f " << f << " local " << k;
+                ++compared;
+            }
+            else
+                EXPECT_GT(oy / 8 + 16 + tp[0].height / 8, lm.rows) << "only when out of range";
             // the forest path: any top-left within the border, also partly outside the image
             std::vector<Point> tls;
             for (int k = 0; k < 500; ++k)
