@@ -126,7 +126,10 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_PROP int64 rejected;          //!< locations rejected before validation (all causes)
     CV_PROP int64 rejected_flat;     //!< of which: window nearly without labels in every search group
     CV_PROP int64 rejected_depth_range; //!< of which: scene depth outside the templates' range
-    CV_PROP int64 validated;         //!< locations that reached validation with candidates
+    /** locations that reached validation with candidates (the locations of a search group
+    searched exhaustively, DetectorParams::exhaustive_ratio, are neither rejected nor validated
+    by it outside the scan's sample rows) */
+    CV_PROP int64 validated;
     CV_PROP int64 candidates;        //!< candidate templates validated, summed over locations
     CV_PROP std::vector<int64> rejected_at_depth; //!< rejected locations per forest depth
     /** depth (forest) at which each coarse location was rejected, -1 when it was not, -2 when
