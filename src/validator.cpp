@@ -240,18 +240,18 @@ bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_i
 }
 
 // Every asked-for template of the exhaustive groups at every position of the T grid (cv::linemod's
-// positions and scores); like a location of the forest path, each position keeps its best
-// max_survivors templates over the threshold as coarse matches (row-major positions, best first).
+// positions and scores); each position keeps its best `keep` templates over the threshold as
+// coarse matches (row-major positions, best first): max_survivors for each of the (T / step)^2
+// locations of the forest path that a cell of the T grid holds.
 static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
                              const ClassPyramids& pyramids, const std::vector<int>& rows,
-                             float threshold, int max_survivors,
-                             std::vector<cv::linemod::Match>& out)
+                             float threshold, int keep, std::vector<cv::linemod::Match>& out)
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
     const int M = static_cast<int>(top.response.size());
     const int T = top.T;
-    const int K = max_survivors;
+    const int K = keep;
     const int offset = T / 2 + (T % 2 - 1);
     LinearMemories lm;
     lm.build(top);
@@ -621,8 +621,11 @@ void validateLocations(const ScenePyramid& scene, const LocationCandidates& cand
     for (int b = 0; b < blocks; ++b)
         coarse.insert(coarse.end(), per_block[b].begin(), per_block[b].end());
     if (!dense_rows.empty())
-        searchExhaustive(scene, index, pyramids, dense_rows, threshold, params.max_survivors,
-                         coarse);
+    {
+        const int per_cell = (top.T + cands.step - 1) / cands.step;
+        searchExhaustive(scene, index, pyramids, dense_rows, threshold,
+                         params.max_survivors * per_cell * per_cell, coarse);
+    }
 }
 
 } // namespace detail

@@ -84,8 +84,8 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     coarsest level's T grid), estimated on every 8th row of locations, the group leaves the scan
     and its templates are searched exhaustively as cv::linemod does (linearized memories, one
     SIMD add per feature over all positions of the T grid); each position keeps its best
-    max_survivors templates over the threshold as coarse matches, like a location of the forest
-    path. A validated pair costs about as much as 20-50 exhaustive (position, template) pairs,
+    max_survivors x (T / location step)^2 templates over the threshold as coarse matches, as many
+    as the forest path's locations in its cell keep. A validated pair costs about as much as 20-50 exhaustive (position, template) pairs,
     so the frame costs at most about what cv::linemod's search of the same templates costs. 0:
     every group exhaustive (no traversal); negative: never. Default 0.05 (doc/detector.md,
     "Bounded worst case"). */
