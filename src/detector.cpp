@@ -293,7 +293,7 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
         rejection_map = cands.rejection_map;
         // 3. validation: breadth-first, the best survivors of each location
         detail::validateLocations(scene, cands, d.impl.index, d.pyramids, params, threshold,
-                                  matches);
+                                  allowed, matches);
     }
     else // exhaustive LINEMOD search of the same templates
         detail::matchExhaustive(scene, d.pyramids, classes, threshold, matches, counters);

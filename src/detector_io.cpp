@@ -26,6 +26,7 @@ DetectorParams::DetectorParams()
     : grid_size(12), dominant_window(3), group_size_ratio(1.3f), group_templates(true),
       auto_depth_leaf_samples(8.f), use_forest(true), location_step(0), min_window_labels(0.5f),
       depth_range_margin(0), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
+      exhaustive_ratio(0.05f),
       depth_samples(63), depth_tolerance(5), nms_iou(0.5f)
 {
     forest.max_depth = 0; // chosen at train() per search group (auto_depth_leaf_samples)
@@ -45,6 +46,7 @@ void DetectorParams::read(const FileNode& fn)
     detail::readField(fn, "location_step", location_step);
     detail::readField(fn, "nms_iou", nms_iou);
     detail::readField(fn, "max_survivors", max_survivors);
+    detail::readField(fn, "exhaustive_ratio", exhaustive_ratio);
     detail::readField(fn, "depth_samples", depth_samples);
     detail::readField(fn, "depth_tolerance", depth_tolerance);
     detail::readField(fn, "min_window_labels", min_window_labels);
@@ -64,6 +66,7 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "chunk_size" << chunk_size << "alpha" << alpha << "grid_size" << grid_size;
     fs << "location_step" << location_step << "nms_iou" << nms_iou;
     fs << "max_survivors" << max_survivors << "depth_samples" << depth_samples;
+    fs << "exhaustive_ratio" << exhaustive_ratio;
     fs << "depth_tolerance" << depth_tolerance << "min_window_labels" << min_window_labels;
     fs << "depth_range_margin" << depth_range_margin << "dominant_window" << dominant_window;
     fs << "group_size_ratio" << group_size_ratio;

@@ -699,6 +699,25 @@ public:
         return ok;
     }
 
+    bool leaf(int tree, const LocationView& view, const int*& ids, int& count,
+              int* rejected_depth) const CV_OVERRIDE
+    {
+        int depth = -1, visited = 0;
+        const Tree& t = trees_[tree];
+        const int ni = descend(t, view, depth, visited);
+        if (ni < 0)
+        {
+            if (rejected_depth)
+                *rejected_depth = depth;
+            return false;
+        }
+        ids = &t.leaf_ids[t.nodes[ni].leaf_begin];
+        count = t.nodes[ni].leaf_count;
+        if (rejected_depth)
+            *rejected_depth = -1;
+        return true;
+    }
+
     bool empty() const CV_OVERRIDE { return trees_.empty(); }
     int dims() const CV_OVERRIDE { return D_; }
     int numTemplates() const CV_OVERRIDE { return N_; }
@@ -835,6 +854,18 @@ private:
     bool traverse(const Tree& t, const LocationView& view, std::vector<int>& candidates,
                   int& rejected_depth, int& visited) const
     {
+        const int ni = descend(t, view, rejected_depth, visited);
+        if (ni < 0)
+            return false;
+        const int* ids = &t.leaf_ids[t.nodes[ni].leaf_begin];
+        candidates.insert(candidates.end(), ids, ids + t.nodes[ni].leaf_count);
+        return true;
+    }
+
+    /** One tree down to its leaf: the leaf's node index, or -1 with the depth of the rejecting
+    node. */
+    int descend(const Tree& t, const LocationView& view, int& rejected_depth, int& visited) const
+    {
         const Node* nodes = &t.nodes[0];
         int ni = 0;
         for (;;)
@@ -851,15 +882,11 @@ private:
                 if (!detail::rejectorPasses(r, view))
                 {
                     rejected_depth = nd.depth;
-                    return false;
+                    return -1;
                 }
             }
             if (nd.left < 0)
-            {
-                const int* ids = &t.leaf_ids[nd.leaf_begin];
-                candidates.insert(candidates.end(), ids, ids + nd.leaf_count);
-                return true;
-            }
+                return ni;
             const int* dims = &t.split_dims[nd.split_begin];
             const uchar* ev = &t.split_vals[nd.split_begin];
             int d = 0;

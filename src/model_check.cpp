@@ -53,6 +53,8 @@ void checkDetectorParams(const DetectorParams& p)
     CV_Check(p.nms_iou, p.nms_iou >= 0.f && p.nms_iou <= 1.f,
              "DetectorParams: nms_iou must be in [0, 1] (0 or 1: no suppression)");
     CV_CheckGT(p.max_survivors, 0, "DetectorParams: max_survivors must be positive");
+    CV_Check(p.exhaustive_ratio, finite(p.exhaustive_ratio),
+             "DetectorParams: exhaustive_ratio must be finite (negative: never exhaustive)");
     CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");
     CV_CheckLE(p.depth_samples, 256, "DetectorParams: depth_samples must be at most 256");
     CV_CheckGT(p.depth_tolerance, 0, "DetectorParams: depth_tolerance must be positive");

@@ -6,6 +6,7 @@
 
 #include "precomp.hpp"
 #include "refine.hpp"
+#include "validator.hpp"
 
 #include <climits>
 
@@ -15,18 +16,27 @@ namespace detail {
 
 // The best position of a template in the 16 x 16 cells of T pixels around (x, y) of level l; the
 // raw score and the feature count at that position.
+// With the level's linearized memories (`linear`, may be null) the 256 scores are vectorised
+// (validator.hpp, scoreLocal), else read in place.
 static Point bestPosition(const LevelMaps& lm, const TemplatePyramid& tp, int l, int x, int y,
-                          int& best, int& num_features)
+                          int& best, int& num_features, const LinearMemories* linear)
 {
     const int T = lm.T;
     int best_r = -1, best_c = -1;
     best = 0;
     num_features = 0;
     const int ox = (x / T - 8) * T, oy = (y / T - 8) * T;
+    int local[256];
+    const bool vectorised = linear
+        && scoreLocal(*linear, tp, l, (int)lm.response.size(), ox, oy, local);
+    if (vectorised)
+        num_features = numFeatures(tp, l, (int)lm.response.size());
     for (int r = 0; r < 16; ++r)
         for (int c = 0; c < 16; ++c)
         {
-            const int s = similarityAll(lm, tp, l, Point(ox + c * T, oy + r * T), &num_features);
+            const int s = vectorised ? local[r * 16 + c]
+                                     : similarityAll(lm, tp, l, Point(ox + c * T, oy + r * T),
+                                                     &num_features);
             if (s > best)
             {
                 best = s;
@@ -42,7 +52,7 @@ static Point bestPosition(const LevelMaps& lm, const TemplatePyramid& tp, int l,
 // one context per level (null: no depth term), with the template's depth samples `dt`.
 static bool refineOne(const std::vector<LevelMaps>& levels, const TemplatePyramid& tp,
                       float threshold, const DepthContext* depth, const DepthTemplate& dt,
-                      cv::linemod::Match& m)
+                      cv::linemod::Match& m, const LinearMemories* linear = 0)
 {
     const int M = static_cast<int>(levels[0].response.size());
     const int samples = depth && dt.samples ? (int)dt.samples->size() : 0;
@@ -55,7 +65,8 @@ static bool refineOne(const std::vector<LevelMaps>& levels, const TemplatePyrami
         const int x = std::min(std::max(m.x * 2 + 1, border), max_x);
         const int y = std::min(std::max(m.y * 2 + 1, border), max_y);
         int best = 0, num_features = 0;
-        const Point p = bestPosition(lm, tp, l, x, y, best, num_features);
+        const Point p = bestPosition(lm, tp, l, x, y, best, num_features,
+                                     linear ? &linear[l] : 0);
         m.x = p.x;
         m.y = p.y;
         const int ns = depthSamplesAtLevel(samples, num_features, M);
@@ -152,6 +163,13 @@ void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
 {
     const bool use_depth = !scene.depth_ctx.empty();
     std::vector<uchar> keep(matches.size(), 0);
+    // LINEMOD's linearized memories of the refinement levels (vectorised local search)
+    std::vector<LinearMemories> linear(scene.levels.size());
+    if (!matches.empty())
+        parallel_for_(Range(0, (int)scene.levels.size() - 1), [&](const Range& range) {
+            for (int l = range.start; l < range.end; ++l)
+                linear[l].build(scene.levels[l]);
+        });
     parallel_for_(Range(0, (int)matches.size()), [&](const Range& range) {
         for (int k = range.start; k < range.end; ++k)
         {
@@ -161,7 +179,7 @@ void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
                                                                          m.template_id))
                                                : DepthTemplate();
             keep[k] = refineOne(scene.levels, tp, threshold,
-                                dt.samples ? &scene.depth_ctx[0] : 0, dt, m);
+                                dt.samples ? &scene.depth_ctx[0] : 0, dt, m, &linear[0]);
         }
     });
     size_t n = 0;

@@ -25,6 +25,10 @@ struct LocationCandidates
     std::vector<Point> location;   //!< (column, row) on the location grid
     std::vector<int> begin;        //!< candidates of location i: rows[begin[i] .. begin[i + 1])
     std::vector<int> rows;         //!< index rows (SearchIndex::rows), ascending per location
+    /** [search group of SearchIndex::groups]: searched exhaustively in this frame (its forest let
+    too many pairs through on the sample rows, DetectorParams::exhaustive_ratio); its templates
+    are in no location's candidates. */
+    std::vector<uchar> exhaustive;
     MatchCounters counters;
     /** On request: the forest depth at which each location was rejected, -1 when it was not, -2
     when its window was flat, -3 when out of depth range (DetectionStats::rejection_map). */
@@ -35,7 +39,11 @@ struct LocationCandidates
 };
 
 /** Scans the coarsest level. row_allowed: per index row, whether its class was asked for;
-the depth-range test runs when the scene has depth and DetectorParams::depth_range_margin > 0. */
+the depth-range test runs when the scene has depth and DetectorParams::depth_range_margin > 0.
+With DetectorParams::exhaustive_ratio > 0, every 8th row of locations goes first through every
+group; the groups whose forest let more (location, candidate) pairs through there than the ratio
+allows (extrapolated to the frame) are marked `exhaustive` and left out of the other rows (their
+locations are neither rejected nor validated by them). 0: every group exhaustive, no forest. */
 void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
                    const DetectorParams& params, const std::vector<uchar>& row_allowed,
                    bool rejection_map, LocationCandidates& out);

@@ -44,9 +44,9 @@ int similarityRange(const LevelMaps& level, int modality, const cv::linemod::Tem
                     Point tl, int begin, int end);
 
 /** Raw similarity of all modalities of a template at one level (32-bit accumulation: any
-number of features). num_features, when given, receives the feature count. */
-int similarityAll(const LevelMaps& level, const TemplatePyramid& tp, int level_index,
-                  Point tl, int* num_features = 0);
+number of features); the reference of the validator's fast paths (exported for the tests). num_features, when given, receives the feature count. */
+CV_EXPORTS int similarityAll(const LevelMaps& level, const TemplatePyramid& tp, int level_index,
+                             Point tl, int* num_features = 0);
 
 /** The raw score (sum of responses) that a template of num_features features must exceed to
 pass a threshold in percent: LINEMOD's rounding. */

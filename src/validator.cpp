@@ -2,71 +2,434 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory
 // of this distribution and at http://opencv.org/license.html
 
-// Validation stage (paper: "Fast Breadth-first Leaf Validation"): LINEMOD's similarity, read in
-// place from the frame's response maps, and the breadth-first preemptive scheme.
+// Validation stage (paper: "Fast Breadth-first Leaf Validation"): LINEMOD's similarity read from
+// a zero-bordered copy of the frame's coarsest response maps (one read per feature, offsets
+// computed once per template and frame), the breadth-first preemptive scheme; and the exhaustive
+// vectorised search of the groups whose forest rejected too little in this frame.
 
 #include "precomp.hpp"
 #include "validator.hpp"
+
+#include "opencv2/core/hal/intrin.hpp"
 
 namespace cv {
 namespace forestmod {
 namespace detail {
 
-void validateAll(const LevelMaps& level, int level_index, std::vector<ValidationCandidate>& cands)
+// ------------------------------------------------------------------------------------------------
+// Layouts
+
+void PaddedResponses::build(const LevelMaps& level, int b)
 {
-    for (size_t i = 0; i < cands.size(); ++i)
+    modalities = static_cast<int>(level.response.size());
+    border = b;
+    width = level.size.width + level.pad + 2 * b;
+    height = level.size.height + level.pad + 2 * b;
+    plane = width * height;
+    data.assign((size_t)plane * 8 * modalities, 0);
+    for (int m = 0; m < modalities; ++m)
+        for (int o = 0; o < 8; ++o)
+        {
+            const Mat& r = level.response[m][o];
+            uchar* dst = &data[(size_t)(m * 8 + o) * plane];
+            for (int y = 0; y < r.rows; ++y)
+                std::memcpy(dst + at(0, y), r.ptr<uchar>(y), r.cols);
+        }
+}
+
+void PaddedResponses::featureOffsets(const TemplatePyramid& tp, int level_index, int* begin,
+                                     std::vector<int>& offsets) const
+{
+    offsets.clear();
+    for (int m = 0; m < modalities; ++m)
     {
-        ValidationCandidate& c = cands[i];
-        c.raw = similarityAll(level, *c.tp, level_index, c.tl, &c.total);
-        c.scored = c.total;
+        begin[m] = static_cast<int>(offsets.size());
+        const cv::linemod::Template& t = tp[level_index * modalities + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const cv::linemod::Feature& f = t.features[i];
+            offsets.push_back((m * 8 + f.label) * plane + f.y * width + f.x);
+        }
+    }
+    begin[modalities] = static_cast<int>(offsets.size());
+}
+
+void LinearMemories::build(const LevelMaps& level)
+{
+    T = level.T;
+    cells_x = level.size.width / T;
+    cells_y = level.size.height / T;
+    stride = cells_x + 1;
+    rows = cells_y + 1;
+    const int M = static_cast<int>(level.response.size());
+    const size_t n = (size_t)stride * rows;
+    data.assign(n * T * T * 8 * M, 0);
+    for (int m = 0; m < M; ++m)
+        for (int o = 0; o < 8; ++o)
+        {
+            const Mat& r = level.response[m][o];
+            for (int dy = 0; dy < T; ++dy)
+                for (int dx = 0; dx < T; ++dx)
+                {
+                    uchar* dst = &data[index(m, o, dx, dy)];
+                    for (int cy = 0; cy < rows && cy * T + dy < r.rows; ++cy)
+                    {
+                        const uchar* src = r.ptr<uchar>(cy * T + dy);
+                        for (int cx = 0; cx < stride && cx * T + dx < r.cols; ++cx)
+                            dst[cy * stride + cx] = src[cx * T + dx];
+                    }
+                }
+        }
+}
+
+// ------------------------------------------------------------------------------------------------
+// The exhaustive path: one template at every position, as cv::linemod
+
+// 16-bit sums: at most this many features (4 each)
+static const int kMaxSum16 = 65535 / 4;
+
+// dst[0 .. n) += src[0 .. n), 8-bit (the caller keeps the sum under 256)
+static void addRun8(uchar* dst, const uchar* src, int n)
+{
+    int k = 0;
+#if CV_SIMD
+    const int w = v_uint8::nlanes;
+    for (; k <= n - w; k += w)
+        v_store(dst + k, v_add_wrap(v_load(dst + k), v_load(src + k)));
+#endif
+    for (; k < n; ++k)
+        dst[k] = (uchar)(dst[k] + src[k]);
+}
+
+// dst[0 .. n) += src[0 .. n), widened to 16 bits
+static void widenAdd(ushort* dst, const uchar* src, int n)
+{
+    int k = 0;
+#if CV_SIMD
+    const int w = v_uint8::nlanes;
+    for (; k <= n - w; k += w)
+    {
+        v_uint16 lo, hi;
+        v_expand(v_load(src + k), lo, hi);
+        v_store(dst + k, v_load(dst + k) + lo);
+        v_store(dst + k + w / 2, v_load(dst + k + w / 2) + hi);
+    }
+#endif
+    for (; k < n; ++k)
+        dst[k] = (ushort)(dst[k] + src[k]);
+}
+
+bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                     int num_modalities, int& span_x, int& span_y, std::vector<ushort>& scores,
+                     std::vector<uchar>& acc8)
+{
+    const int T = lm.T, M = num_modalities;
+    const cv::linemod::Template& t0 = tp[level_index * M];
+    span_x = lm.cells_x - ((t0.width - 1) / T + 1);
+    span_y = lm.cells_y - ((t0.height - 1) / T + 1);
+    if (span_x < 0 || span_y < 0)
+        return false;
+    // positions r * stride + c, the row ends included (they wrap: scored, never reported)
+    const int n = span_y * lm.stride + span_x + 1;
+    scores.assign(n, 0);
+    acc8.resize(n);
+    // LINEMOD's 8-bit accumulation: up to 63 features (63 x 4 = 252) per run, then widened
+    const int kRun = 63;
+    int in_run = 0;
+    std::fill(acc8.begin(), acc8.end(), (uchar)0);
+    for (int m = 0; m < M; ++m)
+    {
+        const cv::linemod::Template& t = tp[level_index * M + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const cv::linemod::Feature& f = t.features[i];
+            // features lie in [0, width] x [0, height] (model_check.cpp): one cell beyond the
+            // positions' cells at most
+            if (f.x < 0 || f.y < 0 || f.x > t0.width || f.y > t0.height)
+                continue;
+            const uchar* src = lm.memory(m, f.label, f.x % T, f.y % T)
+                + (f.y / T) * lm.stride + f.x / T;
+            addRun8(&acc8[0], src, n);
+            if (++in_run == kRun)
+            {
+                widenAdd(&scores[0], &acc8[0], n);
+                std::fill(acc8.begin(), acc8.end(), (uchar)0);
+                in_run = 0;
+            }
+        }
+    }
+    if (in_run)
+        widenAdd(&scores[0], &acc8[0], n);
+    return true;
+}
+
+namespace {
+// A template at a position of the T grid: ranked by raw / total, then by index row (a total
+// order: the best ones of a position do not depend on the order templates are scored in).
+struct Scored
+{
+    int raw, total, row;
+    bool better(const Scored& o) const
+    {
+        const int64 a = (int64)raw * o.total, b = (int64)o.raw * total;
+        return a != b ? a > b : row < o.row;
+    }
+};
+} // namespace
+
+// Inserts `s` into the best-first list `top` of k entries (empty entries have row -1).
+static void keepBest(Scored* top, int k, const Scored& s)
+{
+    if (top[k - 1].row >= 0 && !s.better(top[k - 1]))
+        return;
+    int i = k - 1;
+    while (i > 0 && (top[i - 1].row < 0 || s.better(top[i - 1])))
+    {
+        top[i] = top[i - 1];
+        --i;
+    }
+    top[i] = s;
+}
+
+bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                int num_modalities, int ox, int oy, int* scores)
+{
+    const int T = lm.T, M = num_modalities;
+    if (ox < 0 || oy < 0 || ox % T || oy % T || numFeatures(tp, level_index, M) > kMaxSum16)
+        return false;
+    const int cx = ox / T, cy = oy / T;
+    for (int m = 0; m < M; ++m)
+    {
+        const cv::linemod::Template& t = tp[level_index * M + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const cv::linemod::Feature& f = t.features[i];
+            if (f.x < 0 || f.y < 0 || cx + f.x / T + 16 > lm.stride
+                || cy + f.y / T + 16 > lm.rows)
+                return false;
+        }
+    }
+    ushort acc[256];
+    std::fill(acc, acc + 256, (ushort)0);
+    for (int m = 0; m < M; ++m)
+    {
+        const cv::linemod::Template& t = tp[level_index * M + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const cv::linemod::Feature& f = t.features[i];
+            const uchar* src = lm.memory(m, f.label, f.x % T, f.y % T)
+                + (cy + f.y / T) * lm.stride + cx + f.x / T;
+            for (int r = 0; r < 16; ++r, src += lm.stride)
+            {
+                ushort* a = acc + r * 16;
+#if CV_SIMD128
+                v_uint16x8 lo, hi;
+                v_expand(v_load(src), lo, hi);
+                v_store(a, v_load(a) + lo);
+                v_store(a + 8, v_load(a + 8) + hi);
+#else
+                for (int c = 0; c < 16; ++c)
+                    a[c] = (ushort)(a[c] + src[c]);
+#endif
+            }
+        }
+    }
+    for (int k = 0; k < 256; ++k)
+        scores[k] = acc[k];
+    return true;
+}
+
+// Every asked-for template of the exhaustive groups at every position of the T grid (cv::linemod's
+// positions and scores); each position keeps its best `keep` templates over the threshold as
+// coarse matches (row-major positions, best first): max_survivors for each of the (T / step)^2
+// locations of the forest path that a cell of the T grid holds.
+static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
+                             const ClassPyramids& pyramids, const std::vector<int>& rows,
+                             float threshold, int keep, std::vector<cv::linemod::Match>& out)
+{
+    const LevelMaps& top = scene.coarsest();
+    const int L = scene.coarsestIndex();
+    const int M = static_cast<int>(top.response.size());
+    const int T = top.T;
+    const int K = keep;
+    const int offset = T / 2 + (T % 2 - 1);
+    LinearMemories lm;
+    lm.build(top);
+    const int P = lm.cells_x * lm.cells_y;
+    const int n = static_cast<int>(rows.size());
+    // templates in a fixed number of blocks, each with its own best lists, merged afterwards
+    const int blocks = std::max(1, std::min(n, 4 * getNumThreads()));
+    Scored none = { 0, 1, -1 };
+    std::vector<std::vector<Scored> > best(blocks, std::vector<Scored>((size_t)P * K, none));
+    parallel_for_(Range(0, blocks), [&](const Range& range) {
+        std::vector<ushort> scores;
+        std::vector<uchar> acc8;
+        for (int b = range.start; b < range.end; ++b)
+        {
+            Scored* bb = &best[b][0];
+            for (int i = (int)((int64)n * b / blocks); i < (int)((int64)n * (b + 1) / blocks); ++i)
+            {
+                const TemplateRef& ref = index.rows[rows[i]];
+                const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
+                int span_x = 0, span_y = 0;
+                Scored sc;
+                sc.total = numFeatures(tp, L, M);
+                if (sc.total > kMaxSum16) // beyond 16-bit sums (hostile model files only)
+                {
+                    const cv::linemod::Template& t0 = tp[L * M];
+                    span_x = lm.cells_x - ((t0.width - 1) / T + 1);
+                    span_y = lm.cells_y - ((t0.height - 1) / T + 1);
+                    if (span_x < 0 || span_y < 0)
+                        continue;
+                    scores.assign((size_t)(span_y + 1) * lm.stride, 0);
+                    for (int r = 0; r <= span_y; ++r)
+                        for (int c = 0; c <= span_x; ++c)
+                            scores[(size_t)r * lm.stride + c] = (ushort)std::min(
+                                65535, similarityAll(top, tp, L, Point(c * T, r * T)));
+                }
+                else if (!scoreEverywhere(lm, tp, L, M, span_x, span_y, scores, acc8))
+                    continue;
+                sc.row = rows[i];
+                const int raw_thr = rawThreshold(threshold, sc.total);
+                for (int r = 0; r <= span_y; ++r)
+                {
+                    const ushort* s = &scores[(size_t)r * lm.stride];
+                    for (int c = 0; c <= span_x; ++c)
+                        if (s[c] > raw_thr)
+                        {
+                            sc.raw = s[c];
+                            keepBest(bb + (size_t)(r * lm.cells_x + c) * K, K, sc);
+                        }
+                }
+            }
+        }
+    });
+    for (int b = 1; b < blocks; ++b)
+        for (int p = 0; p < P; ++p)
+            for (int k = 0; k < K && best[b][(size_t)p * K + k].row >= 0; ++k)
+                keepBest(&best[0][(size_t)p * K], K, best[b][(size_t)p * K + k]);
+    for (int p = 0; p < P; ++p)
+        for (int k = 0; k < K; ++k)
+        {
+            const Scored& sc = best[0][(size_t)p * K + k];
+            if (sc.row < 0)
+                break;
+            const TemplateRef& ref = index.rows[sc.row];
+            const int c = p % lm.cells_x, r = p / lm.cells_x;
+            out.push_back(cv::linemod::Match(c * T + offset, r * T + offset,
+                                             (sc.raw * 100.f) / (4 * sc.total) + 0.5f,
+                                             ref.class_id, ref.template_id));
+        }
+}
+
+// ------------------------------------------------------------------------------------------------
+// The forest path: breadth-first validation of every location's candidates
+
+namespace {
+
+// What validation reads, prepared once per frame: the padded maps and, per candidate template,
+// its feature offsets (modality by modality) and its anchor shift.
+struct ValidationContext
+{
+    PaddedResponses maps;
+    std::vector<int> first;    //!< [row]: index in `templ` or -1
+    std::vector<int> begin;    //!< [t * (M + 1) + m]: into `offsets`
+    std::vector<int> offsets;
+    std::vector<Point> half;   //!< [t]: top-left of the template from its location
+    std::vector<int> rows;     //!< [t]: index row
+    int M;
+};
+
+// A candidate of one location.
+struct Candidate
+{
+    int t;        //!< into ValidationContext's templates
+    int base;     //!< top-left's offset in a plane
+    int raw;      //!< accumulated raw score
+    int scored;   //!< features scored so far
+    int total;    //!< features (all modalities)
+};
+
+} // namespace
+
+static inline int sumAt(const uchar* p, const int* off, int n)
+{
+    int s0 = 0, s1 = 0, i = 0;
+    for (; i <= n - 2; i += 2)
+    {
+        s0 += p[off[i]];
+        s1 += p[off[i + 1]];
+    }
+    if (i < n)
+        s0 += p[off[i]];
+    return s0 + s1;
+}
+
+void scoreAt(const PaddedResponses& maps, const TemplatePyramid& templ, int level_index,
+             const std::vector<Point>& tls, std::vector<int>& raw)
+{
+    std::vector<int> begin(maps.modalities + 1), offsets;
+    maps.featureOffsets(templ, level_index, &begin[0], offsets);
+    raw.resize(tls.size());
+    const int n = static_cast<int>(offsets.size());
+    for (size_t i = 0; i < tls.size(); ++i)
+    {
+        CV_DbgAssert(tls[i].x >= -maps.border && tls[i].y >= -maps.border);
+        raw[i] = n ? sumAt(&maps.data[0] + maps.at(tls[i].x, tls[i].y), &offsets[0], n) : 0;
     }
 }
 
 // Adds chunk k of K of a candidate: the fraction [k/K, (k+1)/K) of every modality's features, so
 // that every chunk samples all modalities and the whole object (features are scattered).
-static void scoreChunk(const LevelMaps& level, int level_index, int num_modalities,
-                       ValidationCandidate& c, int k, int K)
+static void scoreChunk(const ValidationContext& ctx, Candidate& c, int k, int K)
 {
-    for (int m = 0; m < num_modalities; ++m)
+    const uchar* p = &ctx.maps.data[0] + c.base;
+    const int* b = &ctx.begin[(size_t)c.t * (ctx.M + 1)];
+    for (int m = 0; m < ctx.M; ++m)
     {
-        const cv::linemod::Template& templ = (*c.tp)[level_index * num_modalities + m];
-        const int n = static_cast<int>(templ.features.size());
-        const int b = static_cast<int>((int64)n * k / K);
+        const int n = b[m + 1] - b[m];
+        const int s = static_cast<int>((int64)n * k / K);
         const int e = static_cast<int>((int64)n * (k + 1) / K);
-        c.raw += similarityRange(level, m, templ, c.tl, b, e);
-        c.scored += e - b;
+        c.raw += sumAt(p, &ctx.offsets[b[m] + s], e - s);
+        c.scored += e - s;
     }
 }
 
-void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modalities,
-                          std::vector<ValidationCandidate>& cands, int chunk_size, float alpha,
-                          int max_survivors, std::vector<int>& survivors)
+static void scoreAll(const ValidationContext& ctx, Candidate& c)
+{
+    const int* b = &ctx.begin[(size_t)c.t * (ctx.M + 1)];
+    c.raw = sumAt(&ctx.maps.data[0] + c.base, &ctx.offsets[b[0]], b[ctx.M] - b[0]);
+    c.scored = c.total;
+}
+
+// Breadth-first preemptive validation (paper): features in chunks of chunk_size; after each
+// chunk keep the candidates whose normalised score raw / (4 scored) is >= the median of the
+// survivors and > alpha; stop when max_survivors (paper: 1) or fewer are left (or features run
+// out). Every chunk takes the same share of each modality's features. The survivors are then
+// scored on all their features.
+static void validateBreadthFirst(const ValidationContext& ctx, std::vector<Candidate>& cands,
+                                 int chunk_size, float alpha, int max_survivors,
+                                 std::vector<int>& survivors, std::vector<int>& alive,
+                                 std::vector<int>& next, std::vector<float>& scores,
+                                 std::vector<float>& sorted)
 {
     CV_Assert(chunk_size > 0 && max_survivors > 0);
     survivors.clear();
-    std::vector<int> alive(cands.size());
+    alive.resize(cands.size());
     for (size_t i = 0; i < cands.size(); ++i)
-    {
-        ValidationCandidate& c = cands[i];
         alive[i] = static_cast<int>(i);
-        c.raw = 0;
-        c.scored = 0;
-        c.total = numFeatures(*c.tp, level_index, num_modalities);
-    }
-    std::vector<float> scores, sorted;
-    std::vector<int> next;
     for (int k = 0; (int)alive.size() > max_survivors; ++k)
     {
         bool any = false;
         scores.clear();
         for (size_t a = 0; a < alive.size(); ++a)
         {
-            ValidationCandidate& c = cands[alive[a]];
+            Candidate& c = cands[alive[a]];
             const int K = std::max(1, (c.total + chunk_size - 1) / chunk_size);
             if (k < K)
             {
                 any = true;
-                scoreChunk(level, level_index, num_modalities, c, k, K);
+                scoreChunk(ctx, c, k, K);
             }
             scores.push_back(c.scored ? c.raw / (4.f * c.scored) : 0.f);
         }
@@ -81,91 +444,188 @@ void validateBreadthFirst(const LevelMaps& level, int level_index, int num_modal
                 next.push_back(alive[a]);
         alive.swap(next);
     }
-    // the survivor(s) are scored on all their features
     for (size_t a = 0; a < alive.size(); ++a)
     {
-        ValidationCandidate& c = cands[alive[a]];
+        Candidate& c = cands[alive[a]];
         if (c.scored < c.total)
-            c.raw = similarityAll(level, *c.tp, level_index, c.tl, &c.total);
-        c.scored = c.total;
+            scoreAll(ctx, c);
         survivors.push_back(alive[a]);
     }
 }
 
-// One location: its candidates scored, the best survivors over the threshold appended to `out`.
-static void validateLocation(const ScenePyramid& scene, const LocationCandidates& cands, int i,
-                             const SearchIndex& index, const ClassPyramids& pyramids,
-                             const DetectorParams& params, float threshold,
-                             std::vector<ValidationCandidate>& vc, std::vector<int>& survivors,
+namespace {
+// Per-worker scratch, allocated once per block range, never per location.
+struct Scratch
+{
+    std::vector<Candidate> vc;
+    std::vector<int> survivors, alive, next;
+    std::vector<float> scores, sorted;
+};
+} // namespace
+
+// One location: its candidates (those of the groups not searched exhaustively) scored, the best
+// survivors over the threshold appended to `out`.
+static void validateLocation(const ValidationContext& ctx, const LocationCandidates& cands, int i,
+                             const SearchIndex& index, const std::vector<uchar>& skip_row,
+                             const DetectorParams& params, float threshold, int T, Scratch& s,
                              std::vector<cv::linemod::Match>& out)
+{
+    const int S = cands.step;
+    const Point loc = cands.location[i];
+    s.vc.clear();
+    for (int k = cands.begin[i]; k < cands.begin[i + 1]; ++k)
+    {
+        const int row = cands.rows[k];
+        if (skip_row[row])
+            continue;
+        Candidate v;
+        v.t = ctx.first[row];
+        // the true anchor lies within S/2 of the location; spread responses cover [p, p + T):
+        // start S/2 before
+        const Point tl = Point(loc.x * S, loc.y * S) - ctx.half[v.t];
+        v.base = ctx.maps.at(tl.x, tl.y);
+        v.raw = v.scored = 0;
+        const int* b = &ctx.begin[(size_t)v.t * (ctx.M + 1)];
+        v.total = b[ctx.M] - b[0];
+        s.vc.push_back(v);
+    }
+    if (s.vc.empty())
+        return;
+    if (params.breadth_first)
+        validateBreadthFirst(ctx, s.vc, params.chunk_size, params.alpha, params.max_survivors,
+                             s.survivors, s.alive, s.next, s.scores, s.sorted);
+    else
+    {
+        s.survivors.resize(s.vc.size());
+        for (size_t k = 0; k < s.vc.size(); ++k)
+        {
+            scoreAll(ctx, s.vc[k]);
+            s.survivors[k] = (int)k;
+        }
+    }
+    const std::vector<Candidate>& vc = s.vc;
+    std::sort(s.survivors.begin(), s.survivors.end(), [&](int a, int b) {
+        return vc[a].raw * (int64)vc[b].total > vc[b].raw * (int64)vc[a].total;
+    });
+    const int offset = T / 2 + (T % 2 - 1);
+    for (size_t k = 0; k < s.survivors.size() && (int)k < params.max_survivors; ++k)
+    {
+        const Candidate& v = vc[s.survivors[k]];
+        if (v.raw <= rawThreshold(threshold, v.total))
+            continue;
+        const TemplateRef& ref = index.rows[ctx.rows[v.t]];
+        const Point tl = Point(loc.x * S, loc.y * S) - ctx.half[v.t];
+        out.push_back(cv::linemod::Match(tl.x + offset, tl.y + offset,
+                                         (v.raw * 100.f) / (4 * v.total) + 0.5f, ref.class_id,
+                                         ref.template_id));
+    }
+}
+
+// The templates that are candidates somewhere (and not searched exhaustively): their offsets,
+// and the border that keeps every read of theirs inside the padded maps.
+static void prepareContext(const ScenePyramid& scene, const LocationCandidates& cands,
+                           const SearchIndex& index, const ClassPyramids& pyramids,
+                           const std::vector<uchar>& skip_row, ValidationContext& ctx)
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
     const int M = static_cast<int>(top.response.size());
     const int S = cands.step;
-    const Point loc = cands.location[i];
-    vc.clear();
-    for (int k = cands.begin[i]; k < cands.begin[i + 1]; ++k)
+    ctx.M = M;
+    ctx.first.assign(index.rows.size(), -1);
+    std::vector<const TemplatePyramid*> tps;
+    // the border: a location lies inside the level, a template's top-left `half` before it
+    int border = 0;
+    for (size_t k = 0; k < cands.rows.size(); ++k)
     {
-        const TemplateRef& ref = index.rows[cands.rows[k]];
-        const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
-        const cv::linemod::Template& t = tp[L * M];
-        ValidationCandidate v;
-        v.index = cands.rows[k];
-        v.tp = &tp;
-        // the true anchor lies within S/2 of the location; spread responses cover [p, p + T):
-        // start S/2 before
-        v.tl = Point(loc.x * S - t.width / 2 - S / 2, loc.y * S - t.height / 2 - S / 2);
-        v.raw = v.scored = v.total = 0;
-        vc.push_back(v);
-    }
-    if (params.breadth_first)
-        validateBreadthFirst(top, L, M, vc, params.chunk_size, params.alpha, params.max_survivors,
-                             survivors);
-    else
-    {
-        validateAll(top, L, vc);
-        survivors.resize(vc.size());
-        for (size_t k = 0; k < vc.size(); ++k)
-            survivors[k] = (int)k;
-    }
-    std::sort(survivors.begin(), survivors.end(), [&](int a, int b) {
-        return vc[a].raw * (int64)vc[b].total > vc[b].raw * (int64)vc[a].total;
-    });
-    const int offset = top.T / 2 + (top.T % 2 - 1);
-    for (size_t k = 0; k < survivors.size() && (int)k < params.max_survivors; ++k)
-    {
-        const ValidationCandidate& v = vc[survivors[k]];
-        if (v.raw <= rawThreshold(threshold, v.total))
+        const int row = cands.rows[k];
+        if (skip_row[row] || ctx.first[row] >= 0)
             continue;
-        const TemplateRef& ref = index.rows[v.index];
-        out.push_back(cv::linemod::Match(v.tl.x + offset, v.tl.y + offset,
-                                         (v.raw * 100.f) / (4 * v.total) + 0.5f, ref.class_id,
-                                         ref.template_id));
+        ctx.first[row] = static_cast<int>(ctx.rows.size());
+        ctx.rows.push_back(row);
+        const TemplateRef& ref = index.rows[row];
+        const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
+        tps.push_back(&tp);
+        const cv::linemod::Template& t = tp[L * M];
+        const Point half(t.width / 2 + S / 2, t.height / 2 + S / 2);
+        ctx.half.push_back(half);
+        border = std::max(border, std::max(half.x, half.y)); // the top-left is in the buffer
+        for (int m = 0; m < M; ++m)
+        {
+            const std::vector<cv::linemod::Feature>& fs = tp[L * M + m].features;
+            for (size_t i = 0; i < fs.size(); ++i)
+                border = std::max(border, std::max(std::max(half.x - fs[i].x, fs[i].x - half.x),
+                                                   std::max(half.y - fs[i].y, fs[i].y - half.y)));
+        }
+    }
+    if (ctx.rows.empty())
+        return;
+    ctx.maps.build(top, border + 1);
+    const int n = static_cast<int>(ctx.rows.size());
+    ctx.begin.resize((size_t)n * (M + 1));
+    std::vector<int> offs;
+    for (int t = 0; t < n; ++t)
+    {
+        int* b = &ctx.begin[(size_t)t * (M + 1)];
+        ctx.maps.featureOffsets(*tps[t], L, b, offs);
+        const int shift = static_cast<int>(ctx.offsets.size());
+        for (int m = 0; m <= M; ++m)
+            b[m] += shift;
+        ctx.offsets.insert(ctx.offsets.end(), offs.begin(), offs.end());
     }
 }
 
 void validateLocations(const ScenePyramid& scene, const LocationCandidates& cands,
                        const SearchIndex& index, const ClassPyramids& pyramids,
                        const DetectorParams& params, float threshold,
-                       std::vector<cv::linemod::Match>& coarse)
+                       const std::vector<uchar>& row_allowed,
+                       std::vector<cv::linemod::Match>& coarse, int* exhaustive_groups)
 {
+    const LevelMaps& top = scene.coarsest();
+    coarse.clear();
+    // the groups the scan left to the exhaustive search: all their asked-for templates
+    std::vector<uchar> skip_row(index.rows.size(), 0);
+    std::vector<int> dense_rows;
+    int dense_groups = 0;
+    for (size_t g = 0; g < cands.exhaustive.size(); ++g)
+    {
+        if (!cands.exhaustive[g])
+            continue;
+        ++dense_groups;
+        const SearchGroup& grp = index.groups[g];
+        for (size_t k = 0; k < grp.rows.size(); ++k)
+            if (row_allowed[grp.rows[k]])
+            {
+                skip_row[grp.rows[k]] = 1;
+                dense_rows.push_back(grp.rows[k]);
+            }
+    }
+    if (exhaustive_groups)
+        *exhaustive_groups = dense_groups;
+
+    ValidationContext ctx;
+    prepareContext(scene, cands, index, pyramids, skip_row, ctx);
     const int n = cands.size();
     // locations in blocks, each block's matches in order: the result does not depend on threads
     const int block = 64;
     const int blocks = (n + block - 1) / block;
     std::vector<std::vector<cv::linemod::Match> > per_block(blocks);
-    parallel_for_(Range(0, blocks), [&](const Range& range) {
-        std::vector<ValidationCandidate> vc;
-        std::vector<int> survivors;
-        for (int b = range.start; b < range.end; ++b)
-            for (int i = b * block; i < std::min(n, (b + 1) * block); ++i)
-                validateLocation(scene, cands, i, index, pyramids, params, threshold, vc,
-                                 survivors, per_block[b]);
-    });
-    coarse.clear();
+    if (!ctx.rows.empty())
+        parallel_for_(Range(0, blocks), [&](const Range& range) {
+            Scratch s;
+            for (int b = range.start; b < range.end; ++b)
+                for (int i = b * block; i < std::min(n, (b + 1) * block); ++i)
+                    validateLocation(ctx, cands, i, index, skip_row, params, threshold, top.T, s,
+                                     per_block[b]);
+        });
     for (int b = 0; b < blocks; ++b)
         coarse.insert(coarse.end(), per_block[b].begin(), per_block[b].end());
+    if (!dense_rows.empty())
+    {
+        const int per_cell = (top.T + cands.step - 1) / cands.step;
+        searchExhaustive(scene, index, pyramids, dense_rows, threshold,
+                         params.max_survivors * per_cell * per_cell, coarse);
+    }
 }
 
 } // namespace detail

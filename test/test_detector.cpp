@@ -235,6 +235,77 @@ TEST(Forestmod_Detector, more_than_63_features_and_single_modality)
     EXPECT_LE(cv::norm(c2 - Point(300, 200)), 12.0);
 }
 
+// The distinct (x, y, similarity) of a match list: matches of different templates at the same
+// place and score are equal for Match::operator== and the unique() after sorting keeps one of
+// them, depending on their order; the places and scores are the same whatever the order.
+static std::vector<Vec3f> places(const std::vector<linemod::Match>& m)
+{
+    std::vector<Vec3f> p;
+    for (size_t i = 0; i < m.size(); ++i)
+        p.push_back(Vec3f((float)m[i].x, (float)m[i].y, m[i].similarity));
+    std::sort(p.begin(), p.end(), [](const Vec3f& a, const Vec3f& b) {
+        return a[0] != b[0] ? a[0] < b[0] : a[1] != b[1] ? a[1] < b[1] : a[2] < b[2];
+    });
+    p.erase(std::unique(p.begin(), p.end()), p.end());
+    return p;
+}
+
+// DetectorParams::exhaustive_ratio = 0 searches every group exhaustively with the vectorised
+// path: every position of the T grid keeps its best templates over the threshold, so the matches
+// are those of the scalar exhaustive search (use_forest = false) that were among the best at
+// their coarse position; with 8-bit (gradient + hue, <= 63 features) and 16-bit (150 features) sums alike.
+TEST(Forestmod_Detector, exhaustive_groups_keep_the_best_of_the_exhaustive_search)
+{
+    for (int variant = 0; variant < 2; ++variant)
+    {
+        std::vector<Ptr<linemod::Modality> > mods = gradientHue();
+        if (variant == 1)
+            mods.assign(1, linemod::ColorGradient::create(10.f, 150, 55.f));
+        DetectorParams p;
+        p.use_forest = false;
+        p.nms_iou = 0.f;
+        cv::forestmod::Detector det(mods, Tpyr(), p);
+        addObjectTemplates(det, 10, "L", 0);
+        if (variant == 1)
+        {
+            ASSERT_GT(det.getTemplates("L", 0)[1].features.size(), 63u);
+        }
+        RNG rng(11 + variant);
+        Mat scene = clutter(Size(640, 480), rng);
+        drawObject(scene, 0, Point2f(300, 220), -20.f, 1.0f);
+        drawObject(scene, 0, Point2f(600, 420), 30.f, 0.85f); // partly outside the image
+        const std::vector<Mat> sources(mods.size(), scene);
+        std::vector<linemod::Match> ref, got;
+        det.match(sources, 60.f, ref);
+        ASSERT_GT(ref.size(), 5u) << variant;
+        p.use_forest = true;
+        p.exhaustive_ratio = 0.f;
+        det.setParams(p);
+        det.match(sources, 60.f, got);
+        ASSERT_FALSE(got.empty()) << variant;
+        // at most (T / step)^2 = 4 matches per position of the T grid of the coarsest level
+        // (320 x 240, T = 8, step 4), as many as the forest path's locations there
+        EXPECT_LE(got.size(), (size_t)(4 * 40 * 30)) << variant;
+        EXPECT_LT(got.size(), ref.size()) << variant;
+        const std::vector<Vec3f> a = places(ref), b = places(got);
+        for (size_t i = 0; i < b.size(); ++i)
+            EXPECT_TRUE(std::binary_search(a.begin(), a.end(), b[i], [](const Vec3f& u,
+                                                                        const Vec3f& v) {
+                return u[0] != v[0] ? u[0] < v[0] : u[1] != v[1] ? u[1] < v[1] : u[2] < v[2];
+            })) << variant << " " << b[i];
+        // the best match is the exhaustive search's
+        EXPECT_EQ(ref[0].x, got[0].x) << variant;
+        EXPECT_EQ(ref[0].y, got[0].y) << variant;
+        EXPECT_EQ(ref[0].similarity, got[0].similarity) << variant;
+        // never exhaustive: the forest's validation, which sees only its candidates
+        p.exhaustive_ratio = -1.f;
+        det.setParams(p);
+        std::vector<linemod::Match> forest;
+        det.match(sources, 60.f, forest);
+        EXPECT_LT(forest.size(), ref.size()) << variant;
+    }
+}
+
 TEST(Forestmod_Detector, object_without_hue_is_learned_by_the_other_modalities)
 {
     const std::vector<Ptr<linemod::Modality> > mods = gradientHue();

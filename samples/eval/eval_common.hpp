@@ -62,6 +62,8 @@ struct EvalOptions
 
     // experiments (-1: the library's default)
     int depth_samples, depth_tolerance, max_survivors, any_tree;
+    float exhaustive_ratio;      //!< DetectorParams::exhaustive_ratio when has_exhaustive_ratio
+    bool has_exhaustive_ratio;
     float leaf_samples;
     bool depth_validation;
 };

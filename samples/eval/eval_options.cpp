@@ -75,6 +75,8 @@ static const char* const keys
       "default; 0: no depth samples, templates cached separately) }"
       "{depth_tolerance | -1       | experiment: DetectorParams::depth_tolerance (mm; -1: default) }"
       "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
+      "{exhaustive_ratio |         | experiment: DetectorParams::exhaustive_ratio (empty: default; "
+      "negative: never exhaustive, 0: always) }"
       "{any_tree        | -1       | experiment: ForestParams::reject_any_tree of the forests (0, 1; -1: default) }"
       "{leaf_samples    | -1       | experiment: DetectorParams::auto_depth_leaf_samples (-1: "
       "default; 0: the paper's depth 8 / 9) }"
@@ -88,7 +90,7 @@ EvalOptions::EvalOptions()
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
-      leaf_samples(-1.f), depth_validation(true)
+      exhaustive_ratio(0.f), has_exhaustive_ratio(false), leaf_samples(-1.f), depth_validation(true)
 {
     regimeSampler(regime, sampler);
 }
@@ -149,6 +151,8 @@ fm::DetectorParams experimentParams(const EvalOptions& opt, fm::DetectorParams p
         p.depth_tolerance = opt.depth_tolerance;
     if (opt.max_survivors > 0)
         p.max_survivors = opt.max_survivors;
+    if (opt.has_exhaustive_ratio)
+        p.exhaustive_ratio = opt.exhaustive_ratio;
     if (opt.any_tree >= 0)
         p.forest.reject_any_tree = opt.any_tree != 0;
     if (opt.leaf_samples >= 0.f)
@@ -222,6 +226,9 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.depth_tolerance = parser.get<int>("depth_tolerance");
     opt.depth_validation = parser.get<int>("depth_validation") != 0;
     opt.max_survivors = parser.get<int>("max_survivors");
+    opt.has_exhaustive_ratio = !parser.get<std::string>("exhaustive_ratio").empty();
+    if (opt.has_exhaustive_ratio)
+        opt.exhaustive_ratio = parser.get<float>("exhaustive_ratio");
     opt.any_tree = parser.get<int>("any_tree");
     opt.leaf_samples = parser.get<float>("leaf_samples");
     opt.force = parser.has("force");

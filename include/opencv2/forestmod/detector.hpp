@@ -79,6 +79,17 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     /** Validation stops at this many candidates, which go on to pyramid refinement. Paper and
     default: 1. */
     CV_PROP_RW int max_survivors;
+    /** Bounded worst case: in a frame where a search group's forest lets through more
+    (location, candidate) pairs than this times (its asked-for templates x the positions of the
+    coarsest level's T grid), estimated on every 8th row of locations, the group leaves the scan
+    and its templates are searched exhaustively as cv::linemod does (linearized memories, one
+    SIMD add per feature over all positions of the T grid); each position keeps its best
+    max_survivors x (T / location step)^2 templates over the threshold as coarse matches, as many
+    as the forest path's locations in its cell keep. A validated pair costs about as much as 20-50 exhaustive (position, template) pairs,
+    so the frame costs at most about what cv::linemod's search of the same templates costs. 0:
+    every group exhaustive (no traversal); negative: never. Default 0.05 (doc/detector.md,
+    "Bounded worst case"). */
+    CV_PROP_RW float exhaustive_ratio;
 
     // ---- depth modality (paper: depth "as another modality in the validation stage") ----
     /** With a DepthNormal modality, addTemplate keeps up to this many depth samples per template;
@@ -115,7 +126,10 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_PROP int64 rejected;          //!< locations rejected before validation (all causes)
     CV_PROP int64 rejected_flat;     //!< of which: window nearly without labels in every search group
     CV_PROP int64 rejected_depth_range; //!< of which: scene depth outside the templates' range
-    CV_PROP int64 validated;         //!< locations that reached validation with candidates
+    /** locations that reached validation with candidates (the locations of a search group
+    searched exhaustively, DetectorParams::exhaustive_ratio, are neither rejected nor validated
+    by it outside the scan's sample rows) */
+    CV_PROP int64 validated;
     CV_PROP int64 candidates;        //!< candidate templates validated, summed over locations
     CV_PROP std::vector<int64> rejected_at_depth; //!< rejected locations per forest depth
     /** depth (forest) at which each coarse location was rejected, -1 when it was not, -2 when

@@ -200,6 +200,12 @@ public:
     @p candidates (in leaf order), or false when a rejector of this tree sends the location out. */
     virtual bool queryTree(int tree, const LocationView& view, std::vector<int>& candidates,
                            int* rejected_depth = 0) const = 0;
+    /** @brief Traverses one tree without copying (the scan's fast path): @p ids and @p count
+    receive the reached leaf's templates (ascending, valid while the forest is unchanged), or
+    false when a rejector of this tree sends the location out. No check of @p tree: 0 <= tree <
+    getParams().num_trees is the caller's. */
+    virtual bool leaf(int tree, const LocationView& view, const int*& ids, int& count,
+                      int* rejected_depth = 0) const = 0;
     /** @overload Convenience for one descriptor row of dims() values. */
     bool query(const uchar* descriptor, std::vector<int>& candidates, int* rejected_depth = 0,
                ForestQueryStats* stats = 0) const;

@@ -1,0 +1,120 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The validator's fast paths against LINEMOD's similarity read in place (detail::similarityAll):
+// the forest path's zero-bordered maps (scoreAt) at any top-left, in or partly out of the image,
+// the exhaustive path's linearized memories (scoreEverywhere) at every position of the T grid and
+// the refinement's local search (scoreLocal), with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included.
+
+#include "test_precomp.hpp"
+#include "../src/validator.hpp"
+#include "../src/quantize_fast.hpp"
+
+namespace opencv_test { namespace {
+
+using namespace cv::forestmod::detail;
+
+// The coarsest level (T = 8) of a random textured frame, gradient + hue.
+static LevelMaps randomLevel(RNG& rng, Size size)
+{
+    Mat coarse(size.height / 12, size.width / 12, CV_8UC3), img;
+    rng.fill(coarse, RNG::UNIFORM, Scalar::all(0), Scalar::all(255));
+    resize(coarse, img, size, 0, 0, INTER_CUBIC);
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(linemod::Modality::create("ColorGradient"));
+    mods.push_back(ColorHue::create());
+    LevelMaps level;
+    level.T = 8;
+    level.pad = 0;
+    level.quantized.resize(2);
+    level.spread.resize(2);
+    level.response.resize(2);
+    for (int m = 0; m < 2; ++m)
+    {
+        mods[m]->process(img)->quantize(level.quantized[m]);
+        spreadLabelsFast(level.quantized[m], level.spread[m], level.T, 0);
+        computeResponseMapsFast(level.spread[m], level.response[m]);
+    }
+    level.size = level.quantized[0].size();
+    return level;
+}
+
+// A two-modality, one-level template of w x h with f features per modality, some on its far
+// edges (x = width or y = height, as cv::linemod's cropping leaves them).
+static TemplatePyramid randomTemplate(RNG& rng, int w, int h, int f)
+{
+    TemplatePyramid tp(2);
+    for (int m = 0; m < 2; ++m)
+    {
+        tp[m].width = w;
+        tp[m].height = h;
+        tp[m].pyramid_level = 0;
+        for (int k = 0; k < f; ++k)
+        {
+            const int x = k == 0 ? w : rng.uniform(0, w), y = k == 1 ? h : rng.uniform(0, h);
+            tp[m].features.push_back(linemod::Feature(x, y, rng.uniform(0, 8)));
+        }
+    }
+    return tp;
+}
+
+TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
+{
+    RNG rng(2015);
+    const Size sizes[] = { Size(320, 240), Size(203, 157) }; // the second: not whole cells
+    for (const Size& size : sizes)
+    {
+        const LevelMaps level = randomLevel(rng, size);
+        LinearMemories lm;
+        lm.build(level);
+        PaddedResponses maps;
+        maps.build(level, 60);
+        std::vector<ushort> scores;
+        std::vector<uchar> acc8;
+        std::vector<int> raw;
+        int compared = 0, nonzero = 0;
+        for (int f : { 8, 31, 40, 100 }) // 2 f features: 8-bit runs, then 16-bit sums
+        {
+            const TemplatePyramid tp = randomTemplate(rng, rng.uniform(20, 49),
+                                                      rng.uniform(20, 49), f);
+            int span_x = 0, span_y = 0;
+            ASSERT_TRUE(scoreEverywhere(lm, tp, 0, 2, span_x, span_y, scores, acc8));
+            EXPECT_EQ(size.width / 8 - ((tp[0].width - 1) / 8 + 1), span_x);
+            EXPECT_EQ(size.height / 8 - ((tp[0].height - 1) / 8 + 1), span_y);
+            for (int r = 0; r <= span_y; ++r)
+                for (int c = 0; c <= span_x; ++c)
+                {
+                    const int ref = similarityAll(level, tp, 0, Point(c * 8, r * 8));
+                    ASSERT_EQ(ref, (int)scores[(size_t)r * lm.stride + c])
+                        << size << " f " << f << " at " << c << "," << r;
+                    ++compared;
+                    nonzero += ref > 0;
+                }
+            // the refinement's local search: 16 x 16 positions of the T grid
+            int local[256];
+            const int ox = 8 * rng.uniform(0, 3), oy = 8 * rng.uniform(0, 3);
+            if (scoreLocal(lm, tp, 0, 2, ox, oy, local))
+            {
+                for (int k = 0; k < 256; ++k)
+                    ASSERT_EQ(similarityAll(level, tp, 0, Point(ox + k % 16 * 8, oy + k / 16 * 8)),
+                              local[k]) << size << " f " << f << " local " << k;
+                ++compared;
+            }
+            else
+                EXPECT_GT(oy / 8 + 16 + tp[0].height / 8, lm.rows) << "only when out of range";
+            // the forest path: any top-left within the border, also partly outside the image
+            std::vector<Point> tls;
+            for (int k = 0; k < 500; ++k)
+                tls.push_back(Point(rng.uniform(-10 - tp[0].width, size.width + 10),
+                                    rng.uniform(-10 - tp[0].height, size.height + 10)));
+            scoreAt(maps, tp, 0, tls, raw);
+            for (size_t k = 0; k < tls.size(); ++k)
+                ASSERT_EQ(similarityAll(level, tp, 0, tls[k]), raw[k]) << size << " " << tls[k];
+        }
+        EXPECT_GT(compared, 1000);
+        EXPECT_GT(nonzero, compared / 2);
+    }
+}
+
+}} // namespace
