@@ -41,6 +41,16 @@ public:
                          const PoseParams& params, const Mat& color,
                          std::vector<PoseMatch>& detections);
 
+    /** Renders the mesh of a class at (R, t), seen with K in an image of `image` size, only
+    inside `crop`: the projection of the mesh's bounding box widened by `margin` pixels and
+    clipped to the image (empty when nothing of it is in front of the camera and in the image).
+    color, depth, mask (as Renderer::render) are crop-sized; a small renderer is used, which is
+    much cheaper than the whole image. diameter: the mesh's (mm). false when the class has no
+    mesh. */
+    bool renderCrop(const String& class_id, Size image, const Matx33d& K, const Matx33d& R,
+                    const Vec3d& t, int margin, Rect& crop, Mat& color, Mat& depth, Mat& mask,
+                    double& diameter);
+
 private:
     int meshHandle(const String& class_id, Size size);
     // false when the class has no mesh (the match keeps its initial pose)
@@ -51,6 +61,13 @@ private:
 
     std::map<String, Mesh> meshes_;
     std::map<String, double> diameters_;
+    std::map<String, std::pair<Point3f, Point3f> > boxes_; //!< meshes' bounding boxes
+    struct CropRenderer
+    {
+        Ptr<Renderer> renderer;
+        std::map<String, int> handles;
+    };
+    std::map<std::pair<int, int>, CropRenderer> crop_renderers_; //!< by size (renderCrop)
     Ptr<Renderer> renderer_;              //!< of the last scene size
     std::map<String, int> handles_;       //!< mesh handles in renderer_
     mutable Mutex mutex_;                 //!< guards all of the above

@@ -80,6 +80,10 @@ static const char* const keys
       "default; 0: the paper's depth 8 / 9) }"
       "{depth_validation | 1       | experiment: 0 turns the depth validation term off after the "
       "templates (with their depth samples, used for the initial poses) are made }"
+      "{verify_k        | 10       | hypotheses per object (locations after grouping the "
+      "matches), verified and counted in recall@k (VerificationParams::top_k) }"
+      "{verify_weights  |          | w_similarity,w_color,w_edges,w_depth of the verification "
+      "(default: VerificationParams') }"
       "{force           |          | overwrite the --json file, heat maps and plots }";
 
 EvalOptions::EvalOptions()
@@ -88,7 +92,7 @@ EvalOptions::EvalOptions()
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
-      leaf_samples(-1.f), depth_validation(true)
+      leaf_samples(-1.f), depth_validation(true), verify_k(10)
 {
     regimeSampler(regime, sampler);
 }
@@ -225,6 +229,8 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.any_tree = parser.get<int>("any_tree");
     opt.leaf_samples = parser.get<float>("leaf_samples");
     opt.force = parser.has("force");
+    opt.verify_k = parser.get<int>("verify_k");
+    const std::string weights_arg = parser.get<std::string>("verify_weights");
     // the sampler: the regime's, then the flags given
     fm::ViewSampler::Params& sp = opt.sampler;
     if (!regimeSampler(opt.regime, sp))
@@ -272,6 +278,11 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
         if (!parseInts(objects_arg, opt.object_ids) || opt.object_ids.empty())
             return fail("--objects is a comma-separated list of ids");
     }
+    if (opt.verify_k < 1)
+        return fail("--verify_k must be >= 1");
+    if (!weights_arg.empty()
+        && (!parseNumbers(weights_arg, opt.verify_weights) || opt.verify_weights.size() != 4))
+        return fail("--verify_weights is w_similarity,w_color,w_edges,w_depth");
     if (sweep != "none" && sweep != "templates" && sweep != "objects" && sweep != "all")
         return fail("--sweep is none, templates, objects or all, not '" + sweep + "'");
     opt.sweep_templates = sweep == "templates" || sweep == "all";
@@ -386,7 +397,7 @@ std::string executableDir(const char* argv0)
 
 Result::Result()
     : has_forest(false), locations(0), rejected(0), n2d(0), ok2d(0), okproj(0), nadd(0),
-      okadd(0), with_depth(false)
+      okadd(0), ok2d_at10(0), okproj_at10(0), with_depth(false)
 {
 }
 
@@ -421,9 +432,11 @@ Result pooled(const std::vector<Result>& rs)
     if (rs.empty())
         return p;
     p = rs[0]; // times, locations: the same calls for every object
-    p.n2d = p.ok2d = p.okproj = p.nadd = p.okadd = 0;
+    p.n2d = p.ok2d = p.okproj = p.nadd = p.okadd = p.ok2d_at10 = p.okproj_at10 = 0;
     for (size_t i = 0; i < rs.size(); ++i)
     {
+        p.ok2d_at10 += rs[i].ok2d_at10;
+        p.okproj_at10 += rs[i].okproj_at10;
         p.n2d += rs[i].n2d;
         p.ok2d += rs[i].ok2d;
         p.okproj += rs[i].okproj;
