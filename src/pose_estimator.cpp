@@ -71,11 +71,7 @@ void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
     AutoLock lock(mutex_);
     meshes_[class_id] = mesh;
     diameters_[class_id] = mesh.diameter();
-    boxes_[class_id] = std::make_pair(mesh.bboxMin(), mesh.bboxMax());
     handles_.erase(class_id); // uploaded again on the next use
-    for (std::map<std::pair<int, int>, CropRenderer>::iterator it = crop_renderers_.begin();
-         it != crop_renderers_.end(); ++it)
-        it->second.handles.erase(class_id);
 }
 
 bool PoseEstimator::hasMesh(const String& class_id) const
@@ -102,67 +98,14 @@ int PoseEstimator::meshHandle(const String& class_id, Size size)
     return hit->second;
 }
 
-// smallest power of two >= n, at least 64
-static int renderSide(int n)
-{
-    int s = 64;
-    while (s < n)
-        s *= 2;
-    return s;
-}
-
-bool PoseEstimator::renderCrop(const String& class_id, Size image, const Matx33d& K,
-                               const Matx33d& R, const Vec3d& t, int margin, Rect& crop,
-                               Mat& color, Mat& depth, Mat& mask, double& diameter)
+const Mesh* PoseEstimator::mesh(const String& class_id, double& diameter) const
 {
     AutoLock lock(mutex_);
-    std::map<String, Mesh>::const_iterator mit = meshes_.find(class_id);
-    if (mit == meshes_.end())
-        return false;
-    diameter = diameters_[class_id];
-    crop = Rect();
-    color.release();
-    depth.release();
-    mask.release();
-    // the projection of the bounding box's corners
-    const Point3f lo = boxes_[class_id].first, hi = boxes_[class_id].second;
-    double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
-    for (int c = 0; c < 8; ++c)
-    {
-        const Vec3d X = R * Vec3d(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z)
-            + t;
-        if (!(X[2] > 1.0)) // a corner at or behind the camera: the object is not in view
-            return true;
-        const Vec3d p = K * X;
-        x0 = std::min(x0, p[0] / p[2]);
-        y0 = std::min(y0, p[1] / p[2]);
-        x1 = std::max(x1, p[0] / p[2]);
-        y1 = std::max(y1, p[1] / p[2]);
-    }
-    const Rect full(0, 0, image.width, image.height);
-    if (!(x1 - x0 < 8 * image.width && y1 - y0 < 8 * image.height))
-        return true;
-    crop = Rect(cvFloor(x0) - margin, cvFloor(y0) - margin, cvCeil(x1 - x0) + 2 * margin + 2,
-                cvCeil(y1 - y0) + 2 * margin + 2) & full;
-    if (crop.area() == 0)
-        return true;
-    const std::pair<int, int> key(renderSide(crop.width), renderSide(crop.height));
-    CropRenderer& cr = crop_renderers_[key];
-    if (cr.renderer.empty())
-        cr.renderer = Renderer::create(Size(key.first, key.second));
-    std::map<String, int>::iterator hit = cr.handles.find(class_id);
-    if (hit == cr.handles.end())
-        hit = cr.handles.insert(std::make_pair(class_id, cr.renderer->addMesh(mit->second))).first;
-    Matx33d Kc = K;
-    Kc(0, 2) -= crop.x;
-    Kc(1, 2) -= crop.y;
-    Mat c, d, k;
-    cr.renderer->render(hit->second, R, t, Kc, c, d, k);
-    const Rect r(0, 0, crop.width, crop.height);
-    color = c(r).clone();
-    depth = d(r).clone();
-    mask = k(r).clone();
-    return true;
+    std::map<String, Mesh>::const_iterator it = meshes_.find(class_id);
+    if (it == meshes_.end())
+        return 0;
+    diameter = diameters_.find(class_id)->second;
+    return &it->second;
 }
 
 static void checkPoseInputs(const Mat& depth, const Matx33d& K, const PoseParams& params,

@@ -41,15 +41,9 @@ public:
                          const PoseParams& params, const Mat& color,
                          std::vector<PoseMatch>& detections);
 
-    /** Renders the mesh of a class at (R, t), seen with K in an image of `image` size, only
-    inside `crop`: the projection of the mesh's bounding box widened by `margin` pixels and
-    clipped to the image (empty when nothing of it is in front of the camera and in the image).
-    color, depth, mask (as Renderer::render) are crop-sized; a small renderer is used, which is
-    much cheaper than the whole image. diameter: the mesh's (mm). false when the class has no
-    mesh. */
-    bool renderCrop(const String& class_id, Size image, const Matx33d& K, const Matx33d& R,
-                    const Vec3d& t, int margin, Rect& crop, Mat& color, Mat& depth, Mat& mask,
-                    double& diameter);
+    /** The mesh of a class and its diameter (mm); null without one. The pointer stays valid
+    until setMesh() is called again (which must not run concurrently with detection). */
+    const Mesh* mesh(const String& class_id, double& diameter) const;
 
 private:
     int meshHandle(const String& class_id, Size size);
@@ -61,13 +55,7 @@ private:
 
     std::map<String, Mesh> meshes_;
     std::map<String, double> diameters_;
-    std::map<String, std::pair<Point3f, Point3f> > boxes_; //!< meshes' bounding boxes
-    struct CropRenderer
-    {
-        Ptr<Renderer> renderer;
-        std::map<String, int> handles;
-    };
-    std::map<std::pair<int, int>, CropRenderer> crop_renderers_; //!< by size (renderCrop)
+
     Ptr<Renderer> renderer_;              //!< of the last scene size
     std::map<String, int> handles_;       //!< mesh handles in renderer_
     mutable Mutex mutex_;                 //!< guards all of the above

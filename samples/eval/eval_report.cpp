@@ -128,6 +128,26 @@ void writeResult(cv::FileStorage& fs, const std::string& key, const Result& r, b
                 fs << "[:" << f.top[k].template_id << f.top[k].x << f.top[k].y
                    << (double)f.top[k].similarity << "]";
             fs << "]";
+            if (!f.hyps.empty())
+            {
+                // verified rows: [similarity, color, edges, depth, occlusion, iou, proj_px] of
+                // every hypothesis, in the verification's order
+                fs << "hypotheses" << "[";
+                for (size_t k = 0; k < f.hyps.size(); ++k)
+                {
+                    fs << "[:";
+                    for (int j = 0; j < 7; ++j)
+                    {
+                        const double v = f.hyps[k][j];
+                        if (cvIsNaN(v) || cvIsInf(v))
+                            fs << "n/a";
+                        else
+                            fs << v;
+                    }
+                    fs << "]";
+                }
+                fs << "]";
+            }
             fs << "}";
         }
         fs << "]";

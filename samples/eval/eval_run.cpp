@@ -31,10 +31,10 @@ static cv::Rect2d projectedBox(const std::vector<cv::Point3f>& pts, const cv::Ma
 }
 
 /** Scores one hypothesis (or none) of an object against its ground truth into res and rec.
-top: the hypotheses in rank order, for recall@10. */
+top: the hypotheses in rank order, for recall@10. record: their features into rec.hyps. */
 static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::GroundTruth& gt,
                             const EvalFrame& f, const ObjectInfo& obj, bool use_depth,
-                            Result& res, FrameRecord& rec)
+                            Result& res, FrameRecord& rec, bool record = false)
 {
     ++res.n2d;
     if (use_depth)
@@ -58,6 +58,9 @@ static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::Gro
             proj = std::min(proj, fm::projectionError2D(obj.pts, f.K, h.R, h.t, gt.R * SR,
                                                         gt.R * St + gt.t));
         }
+        if (record)
+            rec.hyps.push_back(cv::Vec<double, 7>(h.similarity, h.color_score, h.edge_score,
+                                                  h.depth_score, h.occlusion, iou, proj));
         hit2d = hit2d || iou >= 0.5;
         hitproj = hitproj || proj < 5.0;
         if (k > 0)
@@ -176,7 +179,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     if (!top.empty())
         posedet.verify(f.rgb, use_depth ? f.depth : cv::Mat(), f.K, top, ctx.verify, &stats);
     verified->verify.push_back(stats.t_verify_ms);
-    scoreHypotheses(top, *gt, f, obj, use_depth, *verified, rec);
+    scoreHypotheses(top, *gt, f, obj, use_depth, *verified, rec, true);
 }
 
 static std::vector<cv::Mat> sourcesOf(const std::vector<cv::Ptr<cv::linemod::Modality> >& mods,
