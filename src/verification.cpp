@@ -493,8 +493,6 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
     verified.insert(verified.end(), rest.begin(), rest.end());
     matches.swap(verified);
     tm.stop();
-    if (getenv("FM_DBGTIME")) // DBGTIME
-        printf("DBGTIME n %d total %.2f\n", (int)todo.size(), tm.getTimeMilli()); // DBGTIME
     if (stats)
     {
         stats->t_verify_ms += tm.getTimeMilli();

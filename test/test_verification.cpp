@@ -151,6 +151,53 @@ TEST(Forestmod_Verification, decoy_with_the_better_linemod_score_loses)
               << stats.t_verify_ms << " ms" << std::endl;
 }
 
+// With depth: a flat picture of the object (its colours and contour, on a plane) ranked above
+// the object by the matcher loses on the depth check.
+TEST(Forestmod_Verification, flat_picture_loses_on_depth)
+{
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINEMOD();
+    det->setMesh("ape", ape);
+    const Matx33d K = lmoIntrinsics();
+    const std::vector<ViewPose> views = ViewSampler(ViewSampler::Params::coarse())
+                                            .poses(Point3d(ape.center().x, ape.center().y,
+                                                           ape.center().z));
+    const ViewPose& v = views[2];
+    const Vec3d t_obj = v.t + Vec3d(-120, 0, 0), t_pic = v.t + Vec3d(120, 0, 0);
+    Ptr<Renderer> r = Renderer::create(Size(640, 480));
+    const int h = r->addMesh(ape);
+    Mat color(480, 640, CV_8UC3, Scalar(95, 105, 100));
+    Mat depth(480, 640, CV_16UC1, Scalar(v.t[2] + 150)); // a wall behind both
+    Mat c, d, k;
+    r->render(h, v.R, t_obj, K, c, d, k);
+    c.copyTo(color, k);
+    d.copyTo(depth, k);
+    r->render(h, v.R, t_pic, K, c, d, k);
+    c.copyTo(color, k); // the picture: the object's image ...
+    depth.setTo(Scalar(cvRound(t_pic[2] + 60)), k); // ... on a plane
+    std::vector<PoseMatch> m(2);
+    m[0].class_id = m[1].class_id = "ape";
+    m[0].similarity = 95.f; // the picture first
+    m[1].similarity = 80.f;
+    m[0].R = m[1].R = v.R;
+    m[0].t = t_pic;
+    m[1].t = t_obj;
+    m[0].has_pose = m[1].has_pose = true;
+    m[0].template_id = 0;
+    m[1].template_id = 1;
+    std::vector<PoseMatch> rgb = m;
+    det->verify(color, noArray(), K, rgb);
+    ASSERT_EQ(rgb.size(), 2u);
+    EXPECT_EQ(rgb[0].template_id, 0) << "without depth the two look alike: the matcher decides";
+    det->verify(color, depth, K, m);
+    ASSERT_EQ(m.size(), 2u);
+    EXPECT_EQ(m[0].template_id, 1);
+    EXPECT_GT(m[0].depth_score, 0.9);
+    EXPECT_LT(m[1].depth_score, 0.5);
+    EXPECT_GT(m[0].color_score, 0.9);
+    EXPECT_GT(m[1].color_score, 0.9);
+}
+
 TEST(Forestmod_Verification, verify_keeps_unverifiable_hypotheses_in_order)
 {
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
