@@ -9,6 +9,7 @@
 #include "precomp.hpp"
 #include "params_io.hpp"
 #include "pose_estimator.hpp"
+#include "verification.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -71,6 +72,7 @@ void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
     AutoLock lock(mutex_);
     meshes_[class_id] = mesh;
     diameters_[class_id] = mesh.diameter();
+    coarse_[class_id] = coarseMesh(mesh, diameters_[class_id] / 64);
     handles_.erase(class_id); // uploaded again on the next use
 }
 
@@ -98,11 +100,11 @@ int PoseEstimator::meshHandle(const String& class_id, Size size)
     return hit->second;
 }
 
-const Mesh* PoseEstimator::mesh(const String& class_id, double& diameter) const
+const Mesh* PoseEstimator::verificationMesh(const String& class_id, double& diameter) const
 {
     AutoLock lock(mutex_);
-    std::map<String, Mesh>::const_iterator it = meshes_.find(class_id);
-    if (it == meshes_.end())
+    std::map<String, Mesh>::const_iterator it = coarse_.find(class_id);
+    if (it == coarse_.end())
         return 0;
     diameter = diameters_.find(class_id)->second;
     return &it->second;

@@ -41,9 +41,11 @@ public:
                          const PoseParams& params, const Mat& color,
                          std::vector<PoseMatch>& detections);
 
-    /** The mesh of a class and its diameter (mm); null without one. The pointer stays valid
-    until setMesh() is called again (which must not run concurrently with detection). */
-    const Mesh* mesh(const String& class_id, double& diameter) const;
+    /** The mesh of a class the verification draws (coarseMesh(): vertices clustered on a grid
+    of 1/64 of the diameter) and the diameter of the full mesh (mm); null without one. The
+    pointer stays valid until setMesh() is called again (which must not run concurrently with
+    detection). */
+    const Mesh* verificationMesh(const String& class_id, double& diameter) const;
 
 private:
     int meshHandle(const String& class_id, Size size);
@@ -55,6 +57,7 @@ private:
 
     std::map<String, Mesh> meshes_;
     std::map<String, double> diameters_;
+    std::map<String, Mesh> coarse_;       //!< verificationMesh()
 
     Ptr<Renderer> renderer_;              //!< of the last scene size
     std::map<String, int> handles_;       //!< mesh handles in renderer_

@@ -19,7 +19,7 @@ namespace forestmod {
 VerificationParams::VerificationParams()
     : enabled(true), top_k(10), min_saturation(0.25), min_value(0.15), hue_tolerance(20),
       edge_distance(3), depth_tolerance(0.05), min_visible(0.5), sample_step(2),
-      w_similarity(0.2), w_color(0.4), w_edges(0.4), w_depth(0.4)
+      w_similarity(0.2), w_color(0.5), w_edges(0.3), w_depth(0.4)
 {
 }
 
@@ -56,6 +56,60 @@ void VerificationParams::write(FileStorage& fs) const
 }
 
 namespace detail {
+
+Mesh coarseMesh(const Mesh& mesh, double cell)
+{
+    if (!(cell > 0) || mesh.vertices.empty())
+        return mesh;
+    const Point3f lo = mesh.bboxMin();
+    const bool has_colors = mesh.colors.size() == mesh.vertices.size();
+    std::map<int64, int> cell_index;
+    std::vector<int> remap(mesh.vertices.size());
+    std::vector<Vec3d> sum;
+    std::vector<Vec3d> colour;
+    std::vector<int> count;
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+    {
+        const Point3f& v = mesh.vertices[i];
+        const int64 ix = (int64)((v.x - lo.x) / cell), iy = (int64)((v.y - lo.y) / cell),
+                    iz = (int64)((v.z - lo.z) / cell);
+        const int64 key = (ix * 1000003 + iy) * 1000003 + iz;
+        std::map<int64, int>::iterator it = cell_index.find(key);
+        if (it == cell_index.end())
+        {
+            it = cell_index.insert(std::make_pair(key, (int)sum.size())).first;
+            sum.push_back(Vec3d::all(0));
+            colour.push_back(Vec3d::all(0));
+            count.push_back(0);
+        }
+        const int k = it->second;
+        remap[i] = k;
+        sum[k] += Vec3d(v.x, v.y, v.z);
+        if (has_colors)
+            colour[k] += Vec3d(mesh.colors[i][0], mesh.colors[i][1], mesh.colors[i][2]);
+        ++count[k];
+    }
+    Mesh out;
+    for (size_t k = 0; k < sum.size(); ++k)
+    {
+        const Vec3d p = sum[k] * (1.0 / count[k]);
+        out.vertices.push_back(Point3f((float)p[0], (float)p[1], (float)p[2]));
+        if (has_colors)
+        {
+            const Vec3d c = colour[k] * (1.0 / count[k]);
+            out.colors.push_back(Vec3b(saturate_cast<uchar>(c[0]), saturate_cast<uchar>(c[1]),
+                                       saturate_cast<uchar>(c[2])));
+        }
+    }
+    for (size_t f = 0; f < mesh.faces.size(); ++f)
+    {
+        const Vec3i& F = mesh.faces[f];
+        const Vec3i G(remap[F[0]], remap[F[1]], remap[F[2]]);
+        if (G[0] != G[1] && G[1] != G[2] && G[0] != G[2])
+            out.faces.push_back(G);
+    }
+    return out;
+}
 
 static void checkWeight(double w, const char* name)
 {
@@ -458,7 +512,7 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
         if (!m.has_pose || per_class[m.class_id] >= p.top_k)
             continue;
         double diameter = 0;
-        const Mesh* mesh = poses.mesh(m.class_id, diameter);
+        const Mesh* mesh = poses.verificationMesh(m.class_id, diameter);
         if (!mesh)
             continue;
         ++per_class[m.class_id];

@@ -14,6 +14,12 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
+/** The mesh simplified by vertex clustering: vertices in the same cell of a grid of `cell` mm
+are merged into their mean (position and colour), faces that lose a corner are dropped. The
+verification draws it (LM-O's meshes have 12-46 k faces; with cells of 1/64 of the diameter,
+under 2 px at 650 mm, a few thousand are left). cell <= 0: the mesh as it is. */
+Mesh coarseMesh(const Mesh& mesh, double cell);
+
 /** Throws a cv::Exception naming the first bad field of p. */
 void checkVerificationParams(const VerificationParams& p);
 

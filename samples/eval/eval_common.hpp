@@ -65,6 +65,8 @@ struct EvalOptions
     float leaf_samples;
     bool depth_validation;
 
+    bool five_trees;                   //!< Table 1's forestmod 5 trees row
+
     // verification stage (the *_verified rows)
     int verify_k;                      //!< hypotheses per object (recall@verify_k)
     //! w_similarity, w_color, w_edges, w_depth; empty: VerificationParams' defaults

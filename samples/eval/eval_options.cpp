@@ -53,6 +53,7 @@ static const char* const keys
       "{dry_run         |          | print the sampling of the regime (and flags) and stop }"
       "{tables          | true     | the paper's Tables 1 and 2 (false: the sweeps only) }"
       "{no_multi        |          | skip Table 2 (all objects in one model) }"
+      "{five_trees      | true     | Table 1: the forestmod 5 trees row (false: skipped) }"
       "{sweep           | all      | scaling sweeps: none, templates, objects or all }"
       "{sweep_templates | 100,300,1000,3000,10000 | templates sweep: templates of one object "
       "(poses of a denser sampler, spread evenly) }"
@@ -93,7 +94,7 @@ EvalOptions::EvalOptions()
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
-      leaf_samples(-1.f), depth_validation(true), verify_k(10)
+      leaf_samples(-1.f), depth_validation(true), five_trees(true), verify_k(10)
 {
     regimeSampler(regime, sampler);
 }
@@ -208,6 +209,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.dry_run = parser.has("dry_run");
     opt.tables = parser.get<bool>("tables");
     opt.multi = !parser.has("no_multi");
+    opt.five_trees = parser.get<bool>("five_trees");
     const std::string sweep = parser.get<std::string>("sweep");
     const std::string counts_arg = parser.get<std::string>("sweep_templates");
     const std::string classes_arg = parser.get<std::string>("sweep_classes");

@@ -53,7 +53,8 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
         dets[o] = objectTemplates(opt, objects[o], setup, progress, render[o]);
 
     const int frames_per_object = opt.synthetic > 0 ? opt.synthetic : (int)frames.size();
-    progress.total = (int64)objects.size() * frames_per_object * 3
+    const int rows = opt.five_trees ? 3 : 2; // matcher runs per object and frame
+    progress.total = (int64)objects.size() * frames_per_object * rows
         + (multi ? (int64)frames.size() * 2 : 0);
     progress.done = 0;
 
@@ -89,14 +90,14 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
         if (!det)
         {
             skipped.push_back(obj.name);
-            progress.done += 3 * frames_per_object;
+            progress.done += rows * frames_per_object;
             continue;
         }
         std::vector<ObjectInfo*> one(1, &obj);
         const int oi = opt.synthetic > 0 ? (int)o : -1;
         fm::DetectorParams p = det->getParams();
         p.nms_iou = 0; // matches as cv::linemod returns them: the pose choice sees them all
-        for (int trees = 1; trees <= 5; trees += 4)
+        for (int trees = 1; trees <= (opt.five_trees ? 5 : 1); trees += 4)
         {
             p.forest.num_trees = trees;
             det->setParams(p);
@@ -202,7 +203,8 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
     {
         const ObjectInfo& obj = objects[o];
         printf("%s", mdRow(obj.name, "forestmod, 1 tree", obj.templates, r1[o]).c_str());
-        printf("%s", mdRow(obj.name, "forestmod, 5 trees", obj.templates, r5[o]).c_str());
+        if (opt.five_trees)
+            printf("%s", mdRow(obj.name, "forestmod, 5 trees", obj.templates, r5[o]).c_str());
         printf("%s", mdRow(obj.name, "cv::linemod", obj.templates, rl[o]).c_str());
         printf("%s", mdRow(obj.name, "forestmod, 1 tree, verified", obj.templates,
                            r1v[o]).c_str());
@@ -213,7 +215,8 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
     }
     const double n = (double)objects.size();
     printf("%s", meanRow("forestmod, 1 tree", r1).c_str());
-    printf("%s", meanRow("forestmod, 5 trees", r5).c_str());
+    if (opt.five_trees)
+        printf("%s", meanRow("forestmod, 5 trees", r5).c_str());
     printf("%s", meanRow("cv::linemod", rl).c_str());
     printf("%s", meanRow("forestmod, 1 tree, verified", r1v).c_str());
     printf("%s", meanRow("cv::linemod, verified", rlv).c_str());

@@ -181,10 +181,11 @@ struct CV_EXPORTS_W_SIMPLE VerificationParams
     CV_PROP_RW double min_visible;
     /** Pixel step of the colour and depth samples inside the rendered mask. Default 2. */
     CV_PROP_RW int sample_step;
-    /** Weights of the final score (set on rendered scenes, doc/verification.md). */
+    /** Weights of the final score, set on rendered RGB scenes (doc/verification.md; w_depth is
+    not tuned yet). */
     CV_PROP_RW double w_similarity; //!< LINEMOD similarity / 100. Default 0.2
-    CV_PROP_RW double w_color;      //!< color_score. Default 0.4
-    CV_PROP_RW double w_edges;      //!< edge_score. Default 0.4
+    CV_PROP_RW double w_color;      //!< color_score. Default 0.5
+    CV_PROP_RW double w_edges;      //!< edge_score. Default 0.3
     CV_PROP_RW double w_depth;      //!< depth_score, with depth only. Default 0.4
 
     void read(const FileNode& fn);
