@@ -134,6 +134,10 @@ void checkVerificationParams(const VerificationParams& p)
         CV_Error_(Error::StsOutOfRange, ("VerificationParams: edge_distance must be in (0, "
                                          "edge_params.max_distance = %g) px, got %g",
                                          p.edge_params.max_distance, p.edge_distance));
+    if (p.edge_params.orientations < 2 || p.edge_params.orientations > 32
+        || !(p.edge_params.canny_low >= 0 && p.edge_params.canny_high >= p.edge_params.canny_low))
+        CV_Error(Error::StsOutOfRange, "VerificationParams: edge_params needs orientations in "
+                                       "[2, 32] and 0 <= canny_low <= canny_high");
     if (!(p.depth_tolerance > 0 && p.depth_tolerance < 10))
         CV_Error_(Error::StsOutOfRange, ("VerificationParams: depth_tolerance must be a share of "
                                          "the diameter in (0, 10), got %g", p.depth_tolerance));
@@ -186,7 +190,8 @@ static void rasterize(const Mesh& mesh, const Matx33d& K, const Matx33d& R, cons
         x1 = std::max(x1, q[0] / q[2]);
         y1 = std::max(y1, q[1] / q[2]);
     }
-    if (!(x1 - x0 < 4.0 * image.width && y1 - y0 < 4.0 * image.height))
+    if (!(x1 - x0 < 4.0 * image.width && y1 - y0 < 4.0 * image.height && x0 > -1e6
+          && y0 > -1e6 && x1 < 1e6 && y1 < 1e6)) // far off the image (and int-safe)
         return;
     r.rect = Rect(cvFloor(x0) - margin, cvFloor(y0) - margin, cvCeil(x1 - x0) + 2 * margin + 2,
                   cvCeil(y1 - y0) + 2 * margin + 2) & Rect(0, 0, image.width, image.height);

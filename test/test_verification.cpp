@@ -304,6 +304,9 @@ TEST(Forestmod_Verification, bad_input_raises)
     p.min_visible = 0;
     EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
     p = VerificationParams();
+    p.edge_params.orientations = 1;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
     p.sample_step = 0;
     EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
     // detect() checks the verification's parameters too
