@@ -33,7 +33,10 @@ static const char* keys
       "{scene           | 2    | dataset scene id }"
       "{frame           | -1   | dataset image id }"
       "{threshold       | 80   | LINEMOD similarity threshold (percent) }"
-      "{top             | 1    | matches printed per class (best first) }"
+      "{top             | 1    | detections printed and drawn per class, best first (the "
+      "verification's order; their scores on the overlay) }"
+      "{verify          | true | verify and re-rank the detections (PoseParams::verification) }"
+      "{verify_k        | 10   | hypotheses verified per class (VerificationParams::top_k) }"
       "{out             |      | overlay PNG }"
       "{force           |      | overwrite the overlay }";
 
@@ -50,7 +53,7 @@ static int objectId(const std::string& class_id)
 
 static void drawPose(cv::Mat& img, const cv::forestmod::PoseMatch& m, const cv::Matx33d& K,
                      const cv::forestmod::Mesh* mesh, cv::forestmod::Renderer* renderer,
-                     int handle, const cv::Scalar& colour)
+                     int handle, const cv::Scalar& colour, int rank)
 {
     cv::rectangle(img, m.box, colour, 2);
     if (m.has_pose)
@@ -78,8 +81,15 @@ static void drawPose(cv::Mat& img, const cv::forestmod::PoseMatch& m, const cv::
         cv::line(img, p[0], p[2], cv::Scalar(0, 255, 0), 2);
         cv::line(img, p[0], p[3], cv::Scalar(255, 0, 0), 2);
     }
-    cv::putText(img, cv::format("%s %.1f", m.class_id.c_str(), m.similarity),
-                m.box.tl() + cv::Point(0, -6), cv::FONT_HERSHEY_SIMPLEX, 0.6, colour, 2);
+    // "#rank class similarity", and the verification score with its parts when verified
+    std::string label = cv::format("#%d %s %.1f", rank, m.class_id.c_str(), m.similarity);
+    if (m.verification >= 0)
+        label += cv::format(" v %.2f (c %.2f e %.2f%s)", m.verification, m.color_score,
+                            m.edge_score,
+                            m.depth_score >= 0 ? cv::format(" d %.2f", m.depth_score).c_str()
+                                               : "");
+    cv::putText(img, label, m.box.tl() + cv::Point(0, -6), cv::FONT_HERSHEY_SIMPLEX, 0.5, colour,
+                rank == 1 ? 2 : 1);
 }
 
 int main(int argc, char** argv)
@@ -98,6 +108,8 @@ int main(int argc, char** argv)
     const int scene_id = parser.get<int>("scene"), frame_id = parser.get<int>("frame");
     const float threshold = parser.get<float>("threshold");
     const int top = parser.get<int>("top");
+    const bool verify = parser.get<bool>("verify");
+    const int verify_k = parser.get<int>("verify_k");
     const std::string out = parser.get<std::string>("out");
     const std::string Kstr = parser.get<std::string>("K");
     const std::string meshes_arg = parser.get<std::string>("meshes");
@@ -228,12 +240,18 @@ int main(int argc, char** argv)
         }
         cv::forestmod::DetectionStats stats;
         std::vector<cv::forestmod::PoseMatch> matches;
-        detector.detect(sources, K, threshold, matches, std::vector<cv::String>(),
-                        cv::forestmod::PoseParams(), &stats);
+        cv::forestmod::PoseParams pose_params;
+        pose_params.verification.enabled = verify;
+        pose_params.verification.top_k = verify_k;
+        detector.detect(sources, K, threshold, matches, std::vector<cv::String>(), pose_params,
+                        &stats);
         printf("%d matches in %.1f ms (quantize %.1f, forest %.1f, validation %.1f); %.1f %% of "
                "%lld locations rejected before validation\n",
                (int)matches.size(), stats.t_total_ms, stats.t_quantize_ms, stats.t_tree_ms,
                stats.t_valid_ms, 100 * stats.rejectedFraction(), (long long)stats.locations);
+        if (verify)
+            printf("verification: %lld hypotheses in %.1f ms\n", (long long)stats.verified,
+                   stats.t_verify_ms);
 
         cv::Mat overlay = color.clone();
         cv::Ptr<cv::forestmod::Renderer> renderer;
@@ -249,7 +267,8 @@ int main(int argc, char** argv)
         for (size_t i = 0; i < matches.size(); ++i)
         {
             const cv::forestmod::PoseMatch& m = matches[i];
-            if (shown[m.class_id]++ >= top)
+            const int rank = ++shown[m.class_id];
+            if (rank > top)
                 continue;
             printf("%s score %.1f box (%d,%d %dx%d) template %d", m.class_id.c_str(), m.similarity,
                    m.box.x, m.box.y, m.box.width, m.box.height, m.template_id);
@@ -261,6 +280,14 @@ int main(int argc, char** argv)
                        rvec[2], m.t[0], m.t[1], m.t[2], m.refined ? (depth.empty() ? " [refined: edge alignment]" : " [refined by ICP]") : "");
                 if (m.depth_agreement >= 0)
                     printf(" depth check %.2f", m.depth_agreement);
+            }
+            if (m.verification >= 0)
+            {
+                printf(" verification %.3f (colour %.2f, edges %.2f", m.verification,
+                       m.color_score, m.edge_score);
+                if (m.depth_score >= 0)
+                    printf(", depth %.2f", m.depth_score);
+                printf(", occluded %.2f)", m.occlusion);
             }
             printf("\n");
             const int obj = objectId(m.class_id);
@@ -287,8 +314,11 @@ int main(int argc, char** argv)
             if (!out.empty())
             {
                 const bool has_mesh = meshes.count(m.class_id) > 0;
+                // the first detection of a class in yellow, the next ones darker
+                const double fade = 1.0 / rank;
                 drawPose(overlay, m, K, has_mesh ? &meshes[m.class_id] : 0, renderer.get(),
-                         has_mesh && renderer ? handles[m.class_id] : -1, cv::Scalar(0, 255, 255));
+                         has_mesh && renderer ? handles[m.class_id] : -1,
+                         cv::Scalar(0, 255 * fade, 255 * (0.4 + 0.6 * fade)), rank);
             }
         }
         if (!out.empty())

@@ -172,7 +172,7 @@ static int run(const EvalOptions& opt)
     bool all_depth = true;
     for (size_t i = 0; i < nuse; ++i)
         all_depth = all_depth && !dframes[i].depth_path.empty();
-    const bool use_depth = opt.synthetic > 0 || (all_depth && !opt.rgb_only);
+    const bool use_depth = (opt.synthetic > 0 || all_depth) && !opt.rgb_only;
     if (opt.modalities_arg.empty())
     {
         setup.modalities.push_back("ColorGradient");

@@ -14,6 +14,7 @@
 #include "refine.hpp"
 #include "nms.hpp"
 #include "match_stats.hpp"
+#include "verification.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -374,11 +375,25 @@ void Detector::estimatePoses(InputArray depth, const Matx33d& K, std::vector<Pos
     impl_->poses.estimate(impl_->store, depth.getMat(), K, matches, params, color.getMat());
 }
 
+void Detector::verify(InputArray color, InputArray depth, const Matx33d& K,
+                      std::vector<PoseMatch>& matches, const VerificationParams& params,
+                      DetectionStats* stats) const
+{
+    detail::verifyHypotheses(impl_->poses, color.getMat(), depth.getMat(), K, matches, params,
+                             stats);
+}
+
 void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
                       std::vector<PoseMatch>& matches, const std::vector<String>& class_ids,
-                      const PoseParams& params, DetectionStats* stats) const
+                      const PoseParams& _params, DetectionStats* stats) const
 {
-    CV_CheckGE(params.rgb_hypotheses, 1, "PoseParams: rgb_hypotheses must be >= 1");
+    CV_CheckGE(_params.rgb_hypotheses, 1, "PoseParams: rgb_hypotheses must be >= 1");
+    if (_params.verification.enabled)
+        detail::checkVerificationParams(_params.verification);
+    // with the verification, its top_k detections per class get a refined pose
+    PoseParams params = _params;
+    if (params.verification.enabled)
+        params.max_per_class = std::max(params.max_per_class, params.verification.top_k);
     const DetectorView d = { modalities, T_at_level, class_templates, *impl_ };
     checkMatchInputs(d, sources, threshold, std::vector<Mat>());
     Mat depth, color;
@@ -396,6 +411,8 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
     {
         match(sources, threshold, matches, class_ids, std::vector<Mat>(), stats);
         estimatePoses(depth, K, matches, params, color);
+        if (params.verification.enabled && !color.empty())
+            verify(color, depth, K, matches, params.verification, stats);
         return;
     }
     // without depth: each detection's pose is chosen among the matches it suppresses
@@ -410,6 +427,8 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
     for (size_t i = 0; i < all.size(); ++i)
         hypotheses.push_back(detail::toPoseMatch(all[i], class_templates, impl_->store));
     impl_->poses.chooseByEdgeFit(impl_->store, hypotheses, leader, K, params, color, matches);
+    if (params.verification.enabled)
+        verify(color, depth, K, matches, params.verification, stats);
 }
 
 // ---------------------------------------------------------------------------------------------

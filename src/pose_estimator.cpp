@@ -9,6 +9,7 @@
 #include "precomp.hpp"
 #include "params_io.hpp"
 #include "pose_estimator.hpp"
+#include "verification.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -32,6 +33,8 @@ void PoseParams::read(const FileNode& fn)
     if (!fn["edge_params"].empty())
         edge_params.read(fn["edge_params"]);
     detail::readField(fn, "rgb_hypotheses", rgb_hypotheses);
+    if (!fn["verification"].empty())
+        verification.read(fn["verification"]);
 }
 
 void PoseParams::write(FileStorage& fs) const
@@ -46,6 +49,9 @@ void PoseParams::write(FileStorage& fs) const
     edge_params.write(fs);
     fs << "}";
     fs << "rgb_hypotheses" << rgb_hypotheses;
+    fs << "verification" << "{";
+    verification.write(fs);
+    fs << "}";
 }
 
 namespace detail {
@@ -66,6 +72,7 @@ void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
     AutoLock lock(mutex_);
     meshes_[class_id] = mesh;
     diameters_[class_id] = mesh.diameter();
+    coarse_[class_id] = coarseMesh(mesh, diameters_[class_id] / 64);
     handles_.erase(class_id); // uploaded again on the next use
 }
 
@@ -91,6 +98,16 @@ int PoseEstimator::meshHandle(const String& class_id, Size size)
     if (hit == handles_.end())
         hit = handles_.insert(std::make_pair(class_id, renderer_->addMesh(mit->second))).first;
     return hit->second;
+}
+
+const Mesh* PoseEstimator::verificationMesh(const String& class_id, double& diameter) const
+{
+    AutoLock lock(mutex_);
+    std::map<String, Mesh>::const_iterator it = coarse_.find(class_id);
+    if (it == coarse_.end())
+        return 0;
+    diameter = diameters_.find(class_id)->second;
+    return &it->second;
 }
 
 static void checkPoseInputs(const Mat& depth, const Matx33d& K, const PoseParams& params,

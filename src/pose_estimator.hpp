@@ -41,6 +41,12 @@ public:
                          const PoseParams& params, const Mat& color,
                          std::vector<PoseMatch>& detections);
 
+    /** The mesh of a class the verification draws (coarseMesh(): vertices clustered on a grid
+    of 1/64 of the diameter) and the diameter of the full mesh (mm); null without one. The
+    pointer stays valid until setMesh() is called again (which must not run concurrently with
+    detection). */
+    const Mesh* verificationMesh(const String& class_id, double& diameter) const;
+
 private:
     int meshHandle(const String& class_id, Size size);
     // false when the class has no mesh (the match keeps its initial pose)
@@ -51,6 +57,8 @@ private:
 
     std::map<String, Mesh> meshes_;
     std::map<String, double> diameters_;
+    std::map<String, Mesh> coarse_;       //!< verificationMesh()
+
     Ptr<Renderer> renderer_;              //!< of the last scene size
     std::map<String, int> handles_;       //!< mesh handles in renderer_
     mutable Mutex mutex_;                 //!< guards all of the above

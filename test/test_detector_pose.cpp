@@ -111,7 +111,10 @@ TEST(Forestmod_DetectorPose, rgb_detect_chooses_pose_among_overlapping_matches)
     const Mesh& ape = as.ape;
     const Ptr<cv::forestmod::Detector>& det = as.det;
     RNG rng(11);
-    PoseParams one;
+    // the verification would re-rank the detections: compared here is the pose choice alone
+    PoseParams many_params;
+    many_params.verification.enabled = false;
+    PoseParams one = many_params;
     one.rgb_hypotheses = 1;
     int n = 0, chose_other = 0;
     double err_one = 0, err_many = 0;
@@ -120,7 +123,7 @@ TEST(Forestmod_DetectorPose, rgb_detect_chooses_pose_among_overlapping_matches)
         const SyntheticScene scene = as.render(rng);
         const std::vector<Mat> src(2, scene.color);
         std::vector<PoseMatch> many, single;
-        det->detect(src, lmoIntrinsics(), 80.f, many);
+        det->detect(src, lmoIntrinsics(), 80.f, many, std::vector<String>(), many_params);
         det->detect(src, lmoIntrinsics(), 80.f, single, std::vector<String>(), one);
         ASSERT_EQ(single.size(), many.size());
         if (many.empty())

@@ -317,6 +317,29 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
         const double recall_lm = checkResult(o["linemod"], what + " linemod", false);
         checkPerFrame(o["forestmod"], 5, true, what + " forestmod"); // the dataset has depth
         checkPerFrame(o["linemod"], 5, true, what + " linemod");
+        // the verified rows: the same hypotheses re-ranked; recall@10 of a row is at least its
+        // recall@1 and the same with and without the verification (the same hypotheses)
+        const char* rows[] = { "forestmod", "linemod" };
+        for (int k = 0; k < 2; ++k)
+        {
+            const std::string row = rows[k], vrow = row + "_verified";
+            checkResult(o[vrow], what + " " + vrow, k == 0);
+            checkPerFrame(o[vrow], 5, true, what + " " + vrow);
+            EXPECT_GE(number(o[vrow]["t_verify_ms"]), 0.0) << what << " " << vrow;
+            EXPECT_GE(number(o[row]["recall_2d_at10"]), number(o[row]["recall_2d"])) << what;
+            EXPECT_GE(number(o[vrow]["recall_2d_at10"]), number(o[vrow]["recall_2d"])) << what;
+            EXPECT_EQ(number(o[row]["recall_2d_at10"]), number(o[vrow]["recall_2d_at10"]))
+                << what << " " << row;
+            EXPECT_EQ(number(o[row]["proj2d_5px_at10"]), number(o[vrow]["proj2d_5px_at10"]))
+                << what << " " << row;
+            const cv::FileNode pf = o[vrow]["per_frame"];
+            for (int f = 0; f < (int)pf.size(); ++f)
+                if ((int)pf[f]["template_id"] >= 0)
+                {
+                    ASSERT_TRUE(pf[f]["hypotheses"].isSeq()) << what << " " << vrow;
+                    EXPECT_EQ(7, (int)pf[f]["hypotheses"][0].size()) << what << " " << vrow;
+                }
+        }
         if (i == 0)
         {
             // the ape is shown at template poses: both detectors must find it

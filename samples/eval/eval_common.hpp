@@ -66,6 +66,13 @@ struct EvalOptions
     bool has_exhaustive_ratio;
     float leaf_samples;
     bool depth_validation;
+
+    bool five_trees;                   //!< Table 1's forestmod 5 trees row
+
+    // verification stage (the *_verified rows)
+    int verify_k;                      //!< hypotheses per object (recall@verify_k)
+    //! w_similarity, w_color, w_edges, w_depth; empty: VerificationParams' defaults
+    std::vector<double> verify_weights;
 };
 
 /** Parses argv; returns 0 when the program should go on, -1 after printing the help (exit
@@ -130,6 +137,11 @@ struct FrameRecord
     float similarity;
     cv::Point pos;
     double iou, proj, add; //!< NaN where not measured
+    double verification;   //!< PoseMatch::verification of the scored hypothesis (NaN: none)
+    /** verified rows: every hypothesis in the verification's order, (similarity, color_score,
+    edge_score, depth_score, occlusion, box IoU, projection error px): the features the
+    verification weights are set on (--synthetic scenes) */
+    std::vector<cv::Vec<double, 7> > hyps;
     std::vector<cv::linemod::Match> top; //!< the class's best matches (up to 5), as matched
 };
 
@@ -142,6 +154,8 @@ struct Result
     std::vector<double> total, tree, valid, quant;
     int64 locations, rejected;
     int n2d, ok2d, okproj, nadd, okadd;
+    int ok2d_at10, okproj_at10; //!< any of the first 10 hypotheses (RunContext::verify.top_k)
+    std::vector<double> verify; //!< verified rows: t_verify_ms of every frame
     bool with_depth;
     std::vector<FrameRecord> per_frame;
 };
@@ -215,22 +229,26 @@ struct RunContext
     bool rgb_grid;
     int repeat;
     Progress* progress;
+    fm::VerificationParams verify; //!< top_k: hypotheses per object scored (recall@top_k)
 };
 
 /** Runs a forestmod detector (trained as it is) on the frames and scores every object of objs
 (res: one entry per object; with no object, res[0] gets the times only). object_index >= 0:
-only the frames of that object (--synthetic). heat: rejection maps of the first frames. */
+only the frames of that object (--synthetic). heat: rejection maps of the first frames.
+verified (optional, one entry per object): the same hypotheses after Detector::verify(). */
 void runForestmod(const fm::Detector& det, const std::vector<ObjectInfo*>& objs,
                   int object_index, const RunContext& ctx, const std::string& label,
                   std::vector<Result>& res, std::vector<std::pair<int, cv::Mat> >* heat = 0,
-                  int heat_frames = 0);
+                  int heat_frames = 0, std::vector<Result>* verified = 0);
 
 /** The same for cv::linemod; quant: the modalities' process + pyrDown + quantize of every
 level, timed separately on the same frame. posedet: forestmod detector with the same templates
-(pose labels, meshes) for the scoring; may be null when objs is empty. */
+(pose labels, meshes) for the scoring; may be null when objs is empty. verified: as for
+runForestmod. */
 void runLinemod(const cv::linemod::Detector& lm, const fm::Detector* posedet,
                 const std::vector<ObjectInfo*>& objs, int object_index, const RunContext& ctx,
-                const std::string& label, std::vector<Result>& res);
+                const std::string& label, std::vector<Result>& res,
+                std::vector<Result>* verified = 0);
 
 /** Trains the forest with train_threads, then goes back to the matching threads; seconds. */
 double trainDetector(fm::Detector& det, const EvalOptions& opt);

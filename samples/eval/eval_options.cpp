@@ -31,7 +31,8 @@ static const char* const keys
       "{frames          | 0        | frames to use (0: all) }"
       "{synthetic       | 0        | N > 0: evaluate on N rendered RGB-D scenes per object instead "
       "of the dataset's frames (ADD/ADI) }"
-      "{rgb_only        |          | ignore the dataset's depth (RGB-only evaluation) }"
+      "{rgb_only        |          | ignore the dataset's (or the rendered scenes') depth "
+      "(RGB-only evaluation) }"
       "{modalities      |          | comma-separated ColorGradient, DepthNormal, ColorHue "
       "(default: ColorGradient,ColorHue; with depth ColorGradient,DepthNormal,ColorHue) }"
       "{threshold       | 80       | similarity threshold (percent) of both detectors }"
@@ -52,6 +53,7 @@ static const char* const keys
       "{dry_run         |          | print the sampling of the regime (and flags) and stop }"
       "{tables          | true     | the paper's Tables 1 and 2 (false: the sweeps only) }"
       "{no_multi        |          | skip Table 2 (all objects in one model) }"
+      "{five_trees      | true     | Table 1: the forestmod 5 trees row (false: skipped) }"
       "{sweep           | all      | scaling sweeps: none, templates, objects or all }"
       "{sweep_templates | 100,300,1000,3000,10000 | templates sweep: templates of one object "
       "(poses of a denser sampler, spread evenly) }"
@@ -82,6 +84,10 @@ static const char* const keys
       "default; 0: the paper's depth 8 / 9) }"
       "{depth_validation | 1       | experiment: 0 turns the depth validation term off after the "
       "templates (with their depth samples, used for the initial poses) are made }"
+      "{verify_k        | 10       | hypotheses per object (locations after grouping the "
+      "matches), verified and counted in recall@k (VerificationParams::top_k) }"
+      "{verify_weights  |          | w_similarity,w_color,w_edges,w_depth of the verification "
+      "(default: VerificationParams') }"
       "{force           |          | overwrite the --json file, heat maps and plots }";
 
 EvalOptions::EvalOptions()
@@ -90,7 +96,8 @@ EvalOptions::EvalOptions()
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
-      exhaustive_ratio(0.f), has_exhaustive_ratio(false), leaf_samples(-1.f), depth_validation(true)
+      exhaustive_ratio(0.f), has_exhaustive_ratio(false), leaf_samples(-1.f),
+      depth_validation(true), five_trees(true), verify_k(10)
 {
     regimeSampler(regime, sampler);
 }
@@ -207,6 +214,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.dry_run = parser.has("dry_run");
     opt.tables = parser.get<bool>("tables");
     opt.multi = !parser.has("no_multi");
+    opt.five_trees = parser.get<bool>("five_trees");
     const std::string sweep = parser.get<std::string>("sweep");
     const std::string counts_arg = parser.get<std::string>("sweep_templates");
     const std::string classes_arg = parser.get<std::string>("sweep_classes");
@@ -232,6 +240,8 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.any_tree = parser.get<int>("any_tree");
     opt.leaf_samples = parser.get<float>("leaf_samples");
     opt.force = parser.has("force");
+    opt.verify_k = parser.get<int>("verify_k");
+    const std::string weights_arg = parser.get<std::string>("verify_weights");
     // the sampler: the regime's, then the flags given
     fm::ViewSampler::Params& sp = opt.sampler;
     if (!regimeSampler(opt.regime, sp))
@@ -279,6 +289,11 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
         if (!parseInts(objects_arg, opt.object_ids) || opt.object_ids.empty())
             return fail("--objects is a comma-separated list of ids");
     }
+    if (opt.verify_k < 1)
+        return fail("--verify_k must be >= 1");
+    if (!weights_arg.empty()
+        && (!parseNumbers(weights_arg, opt.verify_weights) || opt.verify_weights.size() != 4))
+        return fail("--verify_weights is w_similarity,w_color,w_edges,w_depth");
     if (sweep != "none" && sweep != "templates" && sweep != "objects" && sweep != "all")
         return fail("--sweep is none, templates, objects or all, not '" + sweep + "'");
     opt.sweep_templates = sweep == "templates" || sweep == "all";
@@ -393,7 +408,7 @@ std::string executableDir(const char* argv0)
 
 Result::Result()
     : has_forest(false), locations(0), rejected(0), n2d(0), ok2d(0), okproj(0), nadd(0),
-      okadd(0), with_depth(false)
+      okadd(0), ok2d_at10(0), okproj_at10(0), with_depth(false)
 {
 }
 
@@ -428,9 +443,11 @@ Result pooled(const std::vector<Result>& rs)
     if (rs.empty())
         return p;
     p = rs[0]; // times, locations: the same calls for every object
-    p.n2d = p.ok2d = p.okproj = p.nadd = p.okadd = 0;
+    p.n2d = p.ok2d = p.okproj = p.nadd = p.okadd = p.ok2d_at10 = p.okproj_at10 = 0;
     for (size_t i = 0; i < rs.size(); ++i)
     {
+        p.ok2d_at10 += rs[i].ok2d_at10;
+        p.okproj_at10 += rs[i].okproj_at10;
         p.n2d += rs[i].n2d;
         p.ok2d += rs[i].ok2d;
         p.okproj += rs[i].okproj;

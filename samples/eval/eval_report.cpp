@@ -28,11 +28,13 @@ std::string pct(double v)
 std::string mdRow(const std::string& name, const std::string& det, int templates,
                   const Result& r)
 {
-    return cv::format("| %s | %s | %d | %s | %s | %s | %s | %s | %s | %s | %s |\n", name.c_str(),
-                      det.c_str(), templates, num(tTree(r)).c_str(), num(tValid(r)).c_str(),
-                      num(tQuant(r)).c_str(), num(tTotal(r)).c_str(),
+    return cv::format("| %s | %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n",
+                      name.c_str(), det.c_str(), templates, num(tTree(r)).c_str(),
+                      num(tValid(r)).c_str(), num(tQuant(r)).c_str(), num(tTotal(r)).c_str(),
                       pct(ratio(r.ok2d, r.n2d)).c_str(), pct(ratio(r.okproj, r.n2d)).c_str(),
-                      pct(addRate(r)).c_str(), pct(rejectedFraction(r)).c_str());
+                      pct(ratio(r.ok2d_at10, r.n2d)).c_str(),
+                      pct(ratio(r.okproj_at10, r.n2d)).c_str(), pct(addRate(r)).c_str(),
+                      pct(rejectedFraction(r)).c_str());
 }
 
 std::string meanRow(const std::string& det, const std::vector<Result>& rs)
@@ -52,11 +54,13 @@ std::string meanRow(const std::string& det, const std::vector<Result>& rs)
     const Result p = pooled(rs);
     const double rej = p.has_forest && locations > 0 ? double(rejected) / locations
                                                      : std::numeric_limits<double>::quiet_NaN();
-    return cv::format("| **mean** | %s | - | %s | %s | %s | %s | %s | %s | %s | %s |\n",
+    return cv::format("| **mean** | %s | - | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |\n",
                       det.c_str(), num(tree / n).c_str(), num(valid / n).c_str(),
                       num(quant / n).c_str(), num(total / n).c_str(),
                       pct(ratio(p.ok2d, p.n2d)).c_str(), pct(ratio(p.okproj, p.n2d)).c_str(),
-                      pct(addRate(p)).c_str(), pct(rej).c_str());
+                      pct(ratio(p.ok2d_at10, p.n2d)).c_str(),
+                      pct(ratio(p.okproj_at10, p.n2d)).c_str(), pct(addRate(p)).c_str(),
+                      pct(rej).c_str());
 }
 
 void writeNumber(cv::FileStorage& fs, const std::string& key, double v)
@@ -75,6 +79,11 @@ void writeResult(cv::FileStorage& fs, const std::string& key, const Result& r, b
     writeNumber(fs, "t_valid_ms", tValid(r));
     writeNumber(fs, "recall_2d", ratio(r.ok2d, r.n2d));
     writeNumber(fs, "proj2d_5px", ratio(r.okproj, r.n2d));
+    // recall@k: any of the first k hypotheses (k = --verify_k, default 10)
+    writeNumber(fs, "recall_2d_at10", ratio(r.ok2d_at10, r.n2d));
+    writeNumber(fs, "proj2d_5px_at10", ratio(r.okproj_at10, r.n2d));
+    if (!r.verify.empty()) // verified rows: the verification stage alone, median ms per frame
+        writeNumber(fs, "t_verify_ms", median(r.verify));
     writeNumber(fs, "add_01d", addRate(r));
     writeNumber(fs, "rejected_fraction", rejectedFraction(r));
     // forestmod: DetectionStats::t_quantize_ms (modalities, spreading, response maps);
@@ -113,11 +122,32 @@ void writeResult(cv::FileStorage& fs, const std::string& key, const Result& r, b
             writeNumber(fs, "iou", f.iou);
             writeNumber(fs, "proj2d_px", f.proj);
             writeNumber(fs, "add_d", f.add);
+            writeNumber(fs, "verification", f.verification);
             fs << "top" << "[";
             for (size_t k = 0; k < f.top.size(); ++k)
                 fs << "[:" << f.top[k].template_id << f.top[k].x << f.top[k].y
                    << (double)f.top[k].similarity << "]";
             fs << "]";
+            if (!f.hyps.empty())
+            {
+                // verified rows: [similarity, color, edges, depth, occlusion, iou, proj_px] of
+                // every hypothesis, in the verification's order
+                fs << "hypotheses" << "[";
+                for (size_t k = 0; k < f.hyps.size(); ++k)
+                {
+                    fs << "[:";
+                    for (int j = 0; j < 7; ++j)
+                    {
+                        const double v = f.hyps[k][j];
+                        if (cvIsNaN(v) || cvIsInf(v))
+                            fs << "n/a";
+                        else
+                            fs << v;
+                    }
+                    fs << "]";
+                }
+                fs << "]";
+            }
             fs << "}";
         }
         fs << "]";

@@ -30,11 +30,73 @@ static cv::Rect2d projectedBox(const std::vector<cv::Point3f>& pts, const cv::Ma
     return x1 < x0 ? cv::Rect2d() : cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
 }
 
-/** Scores the best hypothesis of an object in a frame. matches: the detector's output (sorted,
-best first); posedet: a forestmod::Detector with the same templates (pose labels, meshes). */
+/** Scores one hypothesis (or none) of an object against its ground truth into res and rec.
+top: the hypotheses in rank order, for recall@10. record: their features into rec.hyps. */
+static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::GroundTruth& gt,
+                            const EvalFrame& f, const ObjectInfo& obj, bool use_depth,
+                            Result& res, FrameRecord& rec, bool record = false)
+{
+    ++res.n2d;
+    if (use_depth)
+        ++res.nadd;
+    cv::Rect2d gt_box = gt.bbox_obj;
+    if (gt_box.area() <= 0)
+        gt_box = projectedBox(obj.pts, f.K, gt.R, gt.t);
+    bool hit2d = false, hitproj = false;
+    for (size_t k = 0; k < top.size(); ++k)
+    {
+        const fm::PoseMatch& h = top[k];
+        const double iou = fm::boxIoU(projectedBox(obj.pts, f.K, h.R, h.t), gt_box);
+        // 2D projection error, the smallest over the object's discrete symmetries
+        double proj = fm::projectionError2D(obj.pts, f.K, h.R, h.t, gt.R, gt.t);
+        for (size_t s = 0; s < obj.symmetries.size(); ++s)
+        {
+            const cv::Matx44d& S = obj.symmetries[s];
+            const cv::Matx33d SR(S(0, 0), S(0, 1), S(0, 2), S(1, 0), S(1, 1), S(1, 2), S(2, 0),
+                                 S(2, 1), S(2, 2));
+            const cv::Vec3d St(S(0, 3), S(1, 3), S(2, 3));
+            proj = std::min(proj, fm::projectionError2D(obj.pts, f.K, h.R, h.t, gt.R * SR,
+                                                        gt.R * St + gt.t));
+        }
+        if (record)
+            rec.hyps.push_back(cv::Vec<double, 7>(h.similarity, h.color_score, h.edge_score,
+                                                  h.depth_score, h.occlusion, iou, proj));
+        hit2d = hit2d || iou >= 0.5;
+        hitproj = hitproj || proj < 5.0;
+        if (k > 0)
+            continue;
+        // the first hypothesis is the detector's answer
+        rec.template_id = h.template_id;
+        rec.similarity = h.similarity;
+        rec.pos = cv::Point(h.x, h.y);
+        rec.iou = iou;
+        rec.proj = proj;
+        rec.verification = h.verification;
+        res.ok2d += iou >= 0.5;
+        res.okproj += proj < 5.0;
+        if (use_depth)
+        {
+            const double err = obj.symmetric ? fm::adiError(obj.pts, h.R, h.t, gt.R, gt.t)
+                                             : fm::addError(obj.pts, h.R, h.t, gt.R, gt.t);
+            rec.add = err / obj.diameter;
+            if (fm::isCorrect(err, obj.diameter, 0.1))
+                ++res.okadd;
+        }
+    }
+    res.ok2d_at10 += hit2d;
+    res.okproj_at10 += hitproj;
+    res.per_frame.push_back(rec);
+}
+
+/** Scores the hypotheses of an object in a frame. matches: the detector's output (sorted, best
+first, before non-maximum suppression); posedet: a forestmod::Detector with the same templates
+(pose labels, meshes). The matches of the class are grouped by location (greedy, box IoU > 0.5
+with a group's first match) into up to ctx.verify.top_k hypotheses in the matcher's order; each
+takes its pose as Detector::detect() does. res gets the first hypothesis (recall@1) and any of
+them (recall@10); verified (optional) the first after Detector::verify() re-ranked them. */
 static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm::Detector& posedet,
                        const EvalFrame& f, const ObjectInfo& obj, const RunContext& ctx,
-                       Result& res)
+                       Result& res, Result* verified)
 {
     const fm::GroundTruth* gt = 0;
     for (size_t i = 0; i < f.gt.size(); ++i)
@@ -50,17 +112,19 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     pp.rgb_refine = ctx.rgb_refine;
     if (!ctx.rgb_grid)
         pp.edge_params.search_angle = 0;
-    // RGB-D: the best matches go through ICP and the depth check, the first one left is the
-    // hypothesis (LINEMOD ACCV 2012's post-processing). RGB: the best match; refined, its pose
-    // is chosen among the matches of the class overlapping it (as Detector::detect() does with
-    // PoseParams::rgb_hypotheses; both detectors' matches come here before any NMS)
+    // RGB-D: a location's first max_per_class matches go through ICP and the depth check, the
+    // first one left is its hypothesis (LINEMOD ACCV 2012's post-processing). RGB: refined, the
+    // pose is chosen among the matches of the class overlapping the location's first (as
+    // Detector::detect() does with PoseParams::rgb_hypotheses; both detectors' matches come here
+    // before any NMS)
     const bool choose = !use_depth && ctx.rgb_refine;
     const size_t keep = use_depth ? (size_t)pp.max_per_class
                                   : choose ? (size_t)pp.rgb_hypotheses : 1;
     if (choose)
         pp.max_per_class = pp.rgb_hypotheses;
-    std::vector<fm::PoseMatch> hyp;
-    for (size_t i = 0; i < matches.size() && hyp.size() < keep; ++i)
+    const size_t K = (size_t)std::max(1, ctx.verify.top_k);
+    std::vector<std::vector<fm::PoseMatch> > groups;
+    for (size_t i = 0; i < matches.size(); ++i)
     {
         if (matches[i].class_id != obj.class_id)
             continue;
@@ -69,20 +133,34 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
         const cv::linemod::Template& t0 = posedet.getTemplates(matches[i].class_id,
                                                                matches[i].template_id)[0];
         pm.box = cv::Rect(matches[i].x, matches[i].y, t0.width, t0.height);
-        if (choose && !hyp.empty() && fm::boxIoU(pm.box, hyp[0].box) <= 0.5)
-            continue;
-        hyp.push_back(pm);
+        size_t g = 0;
+        while (g < groups.size() && fm::boxIoU(pm.box, groups[g][0].box) <= 0.5)
+            ++g;
+        if (g == groups.size())
+        {
+            if (groups.size() < K)
+                groups.push_back(std::vector<fm::PoseMatch>(1, pm));
+        }
+        else if (groups[g].size() < keep)
+            groups[g].push_back(pm);
     }
-    if (!hyp.empty())
+    std::vector<fm::PoseMatch> top; // one hypothesis per location, in the matcher's order
+    for (size_t g = 0; g < groups.size(); ++g)
+    {
+        std::vector<fm::PoseMatch>& hyp = groups[g];
         posedet.estimatePoses(use_depth ? f.depth : cv::Mat(), f.K, hyp, pp,
                               choose ? f.rgb : cv::Mat());
-    const fm::PoseMatch* best = 0;
-    for (size_t i = 0; i < hyp.size() && (!best || choose); ++i)
-        if (hyp[i].has_pose && (!best || hyp[i].edge_fit > best->edge_fit))
-            best = &hyp[i];
-    ++res.n2d;
-    if (use_depth)
-        ++res.nadd;
+        const fm::PoseMatch* best = 0;
+        for (size_t i = 0; i < hyp.size() && (!best || choose); ++i)
+            if (hyp[i].has_pose && (!best || hyp[i].edge_fit > best->edge_fit))
+                best = &hyp[i];
+        if (best)
+        {
+            fm::PoseMatch m = *best;
+            m.similarity = hyp[0].similarity; // the location's rank stays the matcher's
+            top.push_back(m);
+        }
+    }
     const double nan = std::numeric_limits<double>::quiet_NaN();
     FrameRecord rec;
     rec.scene_id = f.scene_id;
@@ -90,48 +168,18 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     rec.t_ms = res.total.empty() ? nan : res.total.back();
     rec.template_id = -1;
     rec.similarity = 0.f;
-    rec.iou = rec.proj = rec.add = nan;
+    rec.iou = rec.proj = rec.add = rec.verification = nan;
     for (size_t i = 0; i < matches.size() && rec.top.size() < 5; ++i)
         if (matches[i].class_id == obj.class_id)
             rec.top.push_back(matches[i]);
-    if (!best)
-    {
-        res.per_frame.push_back(rec);
+    scoreHypotheses(top, *gt, f, obj, use_depth, res, rec);
+    if (!verified)
         return;
-    }
-    rec.template_id = best->template_id;
-    rec.similarity = best->similarity;
-    rec.pos = cv::Point(best->x, best->y);
-    cv::Rect2d gt_box = gt->bbox_obj;
-    if (gt_box.area() <= 0)
-        gt_box = projectedBox(obj.pts, f.K, gt->R, gt->t);
-    const cv::Rect2d est_box = projectedBox(obj.pts, f.K, best->R, best->t);
-    rec.iou = fm::boxIoU(est_box, gt_box);
-    if (rec.iou >= 0.5)
-        ++res.ok2d;
-    // 2D projection error, the smallest over the object's discrete symmetries
-    double proj = fm::projectionError2D(obj.pts, f.K, best->R, best->t, gt->R, gt->t);
-    for (size_t s = 0; s < obj.symmetries.size(); ++s)
-    {
-        const cv::Matx44d& S = obj.symmetries[s];
-        const cv::Matx33d SR(S(0, 0), S(0, 1), S(0, 2), S(1, 0), S(1, 1), S(1, 2), S(2, 0),
-                             S(2, 1), S(2, 2));
-        const cv::Vec3d St(S(0, 3), S(1, 3), S(2, 3));
-        proj = std::min(proj, fm::projectionError2D(obj.pts, f.K, best->R, best->t, gt->R * SR,
-                                                    gt->R * St + gt->t));
-    }
-    rec.proj = proj;
-    if (proj < 5.0)
-        ++res.okproj;
-    if (use_depth)
-    {
-        const double err = obj.symmetric ? fm::adiError(obj.pts, best->R, best->t, gt->R, gt->t)
-                                         : fm::addError(obj.pts, best->R, best->t, gt->R, gt->t);
-        rec.add = err / obj.diameter;
-        if (fm::isCorrect(err, obj.diameter, 0.1))
-            ++res.okadd;
-    }
-    res.per_frame.push_back(rec);
+    fm::DetectionStats stats;
+    if (!top.empty())
+        posedet.verify(f.rgb, use_depth ? f.depth : cv::Mat(), f.K, top, ctx.verify, &stats);
+    verified->verify.push_back(stats.t_verify_ms);
+    scoreHypotheses(top, *gt, f, obj, use_depth, *verified, rec, true);
 }
 
 static std::vector<cv::Mat> sourcesOf(const std::vector<cv::Ptr<cv::linemod::Modality> >& mods,
@@ -143,6 +191,19 @@ static std::vector<cv::Mat> sourcesOf(const std::vector<cv::Ptr<cv::linemod::Mod
     return s;
 }
 
+// the matcher's times and counters of a result, for its verified twin
+static void copyTimes(const Result& r, Result& v)
+{
+    v.has_forest = r.has_forest;
+    v.with_depth = r.with_depth;
+    v.total = r.total;
+    v.tree = r.tree;
+    v.valid = r.valid;
+    v.quant = r.quant;
+    v.locations = r.locations;
+    v.rejected = r.rejected;
+}
+
 static bool frameFor(const EvalFrame& f, int object_index)
 {
     return f.owner < 0 || object_index < 0 || f.owner == object_index;
@@ -151,7 +212,7 @@ static bool frameFor(const EvalFrame& f, int object_index)
 void runForestmod(const fm::Detector& det, const std::vector<ObjectInfo*>& objs,
                   int object_index, const RunContext& ctx, const std::string& label,
                   std::vector<Result>& res, std::vector<std::pair<int, cv::Mat> >* heat,
-                  int heat_frames)
+                  int heat_frames, std::vector<Result>* verified)
 {
     CV_Assert(res.size() >= std::max<size_t>(1, objs.size()));
     const std::vector<cv::Ptr<cv::linemod::Modality> > mods = det.getModalities();
@@ -193,8 +254,10 @@ void runForestmod(const fm::Detector& det, const std::vector<ObjectInfo*>& objs,
             r.quant.push_back(best.t_quantize_ms);
             r.locations += best.locations;
             r.rejected += best.rejected;
+            if (verified)
+                copyTimes(r, (*verified)[o]);
             if (o < objs.size())
-                scoreFrame(matches, det, f, *objs[o], ctx, r);
+                scoreFrame(matches, det, f, *objs[o], ctx, r, verified ? &(*verified)[o] : 0);
         }
         ++k;
         ctx.progress->step(cv::format("%s, frame %d", label.c_str(), k));
@@ -226,7 +289,8 @@ static double linemodQuantizeMs(const cv::linemod::Detector& lm,
 
 void runLinemod(const cv::linemod::Detector& lm, const fm::Detector* posedet,
                 const std::vector<ObjectInfo*>& objs, int object_index, const RunContext& ctx,
-                const std::string& label, std::vector<Result>& res)
+                const std::string& label, std::vector<Result>& res,
+                std::vector<Result>* verified)
 {
     CV_Assert(res.size() >= std::max<size_t>(1, objs.size()));
     CV_Assert(posedet || objs.empty());
@@ -257,8 +321,11 @@ void runLinemod(const cv::linemod::Detector& lm, const fm::Detector* posedet,
             r.with_depth = ctx.use_depth;
             r.total.push_back(best_ms);
             r.quant.push_back(quant_ms);
+            if (verified)
+                copyTimes(r, (*verified)[o]);
             if (o < objs.size())
-                scoreFrame(matches, *posedet, f, *objs[o], ctx, r);
+                scoreFrame(matches, *posedet, f, *objs[o], ctx, r,
+                           verified ? &(*verified)[o] : 0);
         }
         ++k;
         ctx.progress->step(cv::format("%s, frame %d", label.c_str(), k));

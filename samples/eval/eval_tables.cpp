@@ -53,7 +53,8 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
         dets[o] = objectTemplates(opt, objects[o], setup, progress, render[o]);
 
     const int frames_per_object = opt.synthetic > 0 ? opt.synthetic : (int)frames.size();
-    progress.total = (int64)objects.size() * frames_per_object * 3
+    const int rows = opt.five_trees ? 3 : 2; // matcher runs per object and frame
+    progress.total = (int64)objects.size() * frames_per_object * rows
         + (multi ? (int64)frames.size() * 2 : 0);
     progress.done = 0;
 
@@ -65,9 +66,19 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
     ctx.rgb_grid = opt.rgb_grid;
     ctx.repeat = opt.repeat;
     ctx.progress = &progress;
+    ctx.verify.top_k = opt.verify_k;
+    if (!opt.verify_weights.empty())
+    {
+        ctx.verify.w_similarity = opt.verify_weights[0];
+        ctx.verify.w_color = opt.verify_weights[1];
+        ctx.verify.w_edges = opt.verify_weights[2];
+        ctx.verify.w_depth = opt.verify_weights[3];
+    }
 
     // ---- Table 1: one object per model
     std::vector<Result> r1(objects.size()), r5(objects.size()), rl(objects.size());
+    // the same hypotheses re-ranked by the verification stage (Detector::verify)
+    std::vector<Result> r1v(objects.size()), rlv(objects.size());
     std::vector<double> train1(objects.size()), train5(objects.size());
     std::vector<std::pair<int, cv::Mat> > heat_single, heat_all;
     std::vector<std::string> skipped;
@@ -79,30 +90,33 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
         if (!det)
         {
             skipped.push_back(obj.name);
-            progress.done += 3 * frames_per_object;
+            progress.done += rows * frames_per_object;
             continue;
         }
         std::vector<ObjectInfo*> one(1, &obj);
         const int oi = opt.synthetic > 0 ? (int)o : -1;
         fm::DetectorParams p = det->getParams();
         p.nms_iou = 0; // matches as cv::linemod returns them: the pose choice sees them all
-        for (int trees = 1; trees <= 5; trees += 4)
+        for (int trees = 1; trees <= (opt.five_trees ? 5 : 1); trees += 4)
         {
             p.forest.num_trees = trees;
             det->setParams(p);
             progress.show(cv::format("%s: training %d tree(s)", obj.name.c_str(), trees));
             (trees == 1 ? train1 : train5)[o] = trainDetector(*det, opt);
-            std::vector<Result> rr(1);
+            std::vector<Result> rr(1), rv(1);
             const bool want_heat = !heat_dir.empty() && o == 0 && trees == 1;
             runForestmod(*det, one, oi, ctx,
                          cv::format("%s: forestmod %d tree(s)", obj.name.c_str(), trees), rr,
-                         want_heat ? &heat_single : 0, heat_frames);
+                         want_heat ? &heat_single : 0, heat_frames, trees == 1 ? &rv : 0);
             (trees == 1 ? r1 : r5)[o] = rr[0];
+            if (trees == 1)
+                r1v[o] = rv[0];
         }
         cv::Ptr<cv::linemod::Detector> lm = linemodCopy(*det);
-        std::vector<Result> rr(1);
-        runLinemod(*lm, det, one, oi, ctx, obj.name + ": cv::linemod", rr);
+        std::vector<Result> rr(1), rv(1);
+        runLinemod(*lm, det, one, oi, ctx, obj.name + ": cv::linemod", rr, &rv);
         rl[o] = rr[0];
+        rlv[o] = rv[0];
     }
 
     // objects without templates are left out from here on
@@ -115,6 +129,8 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
                 r1[k] = r1[o];
                 r5[k] = r5[o];
                 rl[k] = rl[o];
+                r1v[k] = r1v[o];
+                rlv[k] = rlv[o];
                 train1[k] = train1[o];
                 train5[k] = train5[o];
                 render[k] = render[o];
@@ -179,23 +195,45 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
                "ColorHue finds none on an unsaturated object)\n%s", skipped[i].c_str(),
                i + 1 == skipped.size() ? "\n" : "");
     printf("| object | detector | templates | T_tree | T_valid | T_quant | T_total | 2D IoU "
-           ">= 0.5 | proj < 5 px | ADD/ADI < 0.1 d | rejected |\n");
-    printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+           ">= 0.5 | proj < 5 px | 2D @%d | proj @%d | ADD/ADI < 0.1 d | rejected |\n",
+           opt.verify_k, opt.verify_k);
+    printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     double s1 = 0, s5 = 0, sl = 0; // sums of the per-object median T_total
     for (size_t o = 0; o < objects.size(); ++o)
     {
         const ObjectInfo& obj = objects[o];
         printf("%s", mdRow(obj.name, "forestmod, 1 tree", obj.templates, r1[o]).c_str());
-        printf("%s", mdRow(obj.name, "forestmod, 5 trees", obj.templates, r5[o]).c_str());
+        if (opt.five_trees)
+            printf("%s", mdRow(obj.name, "forestmod, 5 trees", obj.templates, r5[o]).c_str());
         printf("%s", mdRow(obj.name, "cv::linemod", obj.templates, rl[o]).c_str());
+        printf("%s", mdRow(obj.name, "forestmod, 1 tree, verified", obj.templates,
+                           r1v[o]).c_str());
+        printf("%s", mdRow(obj.name, "cv::linemod, verified", obj.templates, rlv[o]).c_str());
         s1 += tTotal(r1[o]);
         s5 += tTotal(r5[o]);
         sl += tTotal(rl[o]);
     }
     const double n = (double)objects.size();
     printf("%s", meanRow("forestmod, 1 tree", r1).c_str());
-    printf("%s", meanRow("forestmod, 5 trees", r5).c_str());
+    if (opt.five_trees)
+        printf("%s", meanRow("forestmod, 5 trees", r5).c_str());
     printf("%s", meanRow("cv::linemod", rl).c_str());
+    printf("%s", meanRow("forestmod, 1 tree, verified", r1v).c_str());
+    printf("%s", meanRow("cv::linemod, verified", rlv).c_str());
+    {
+        std::vector<double> tv;
+        for (size_t o = 0; o < objects.size(); ++o)
+        {
+            tv.insert(tv.end(), r1v[o].verify.begin(), r1v[o].verify.end());
+            tv.insert(tv.end(), rlv[o].verify.begin(), rlv[o].verify.end());
+        }
+        printf("\nRecall@1 (2D IoU >= 0.5, proj < 5 px) scores each detector's first hypothesis, "
+               "@%d any of its first %d (locations of the object's matches, grouped at box IoU > "
+               "0.5). *verified*: the same hypotheses re-ranked by Detector::verify(); T_verify "
+               "(verification alone, up to %d hypotheses per object and frame): median %s ms, "
+               "max %s ms.\n", opt.verify_k, opt.verify_k, opt.verify_k,
+               num(median(tv)).c_str(), num(quantile(tv, 1)).c_str());
+    }
     printf("\nT_quant: forestmod's DetectionStats::t_quantize_ms (modalities, spreading, response "
            "maps); cv::linemod's modalities' process + pyrDown + quantize of every level, timed "
            "apart on the same frame (its spreading and response maps are in T_total only).\n");
@@ -211,8 +249,9 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
         printf("\n## Table 2: all %d objects in one model (%d templates, forest training "
                "%.1f s)\n\n", (int)objects.size(), multi_templates, multi_train);
         printf("| object | detector | templates | T_tree | T_valid | T_quant | T_total | "
-               "2D IoU >= 0.5 | proj < 5 px | ADD/ADI < 0.1 d | rejected |\n");
-        printf("|---|---|---|---|---|---|---|---|---|---|---|\n");
+               "2D IoU >= 0.5 | proj < 5 px | 2D @%d | proj @%d | ADD/ADI < 0.1 d | rejected "
+               "|\n", opt.verify_k, opt.verify_k);
+        printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         printf("%s", mdRow("**all**", "forestmod, 5 trees", multi_templates, m5).c_str());
         printf("%s", mdRow("**all**", "cv::linemod", multi_templates, ml).c_str());
         for (size_t o = 0; o < objects.size(); ++o)
@@ -253,6 +292,8 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
             writeResult(fs, "forestmod", r1[o], true);
             writeResult(fs, "forestmod_5", r5[o], true);
             writeResult(fs, "linemod", rl[o], true);
+            writeResult(fs, "forestmod_verified", r1v[o], true);
+            writeResult(fs, "linemod_verified", rlv[o], true);
             fs << "train_s" << "{" << "forestmod" << train1[o] << "forestmod_5" << train5[o]
                << "}";
             fs << "}";

@@ -122,6 +122,10 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_PROP double t_tree_ms;        //!< scan: rejections and forests of every location (T_tree)
     CV_PROP double t_valid_ms;       //!< validation + pyramid refinement + sorting (T_valid)
     CV_PROP double t_total_ms;       //!< the whole call (with an automatic training and NMS)
+    /** verification stage (Detector::detect, Detector::verify): rendering the hypotheses,
+    the scene's edge maps and colours, scoring and re-ranking; not part of t_total_ms */
+    CV_PROP double t_verify_ms;
+    CV_PROP int64 verified;          //!< hypotheses scored by the verification stage
     CV_PROP int64 locations;         //!< locations visited on the coarsest level
     CV_PROP int64 rejected;          //!< locations rejected before validation (all causes)
     CV_PROP int64 rejected_flat;     //!< of which: window nearly without labels in every search group
@@ -151,6 +155,57 @@ struct CV_EXPORTS_W_SIMPLE TemplatePose
     CV_PROP_RW bool valid; //!< false for templates added without a pose
 };
 
+/** @brief Parameters of the verification stage (Detector::verify(), Detector::detect()): the
+best hypotheses of each class, at their refined pose, are rendered (mask, colour, depth) and scored
+on evidence the LINEMOD similarity does not use; they are then ranked by the weighted sum
+verification = w_similarity * similarity / 100 + w_color * color_score + w_edges * edge_score
+(+ w_depth * depth_score with depth), the weights divided by their sum (doc/verification.md).
+FileStorage keys are the field names. */
+struct CV_EXPORTS_W_SIMPLE VerificationParams
+{
+    CV_WRAP VerificationParams();
+    /** detect() verifies and re-ranks its detections. Default true. */
+    CV_PROP_RW bool enabled;
+    /** Hypotheses verified per class, best first by the matcher (after non-maximum
+    suppression); the others keep their place after the verified ones. Default 10. */
+    CV_PROP_RW int top_k;
+    /** A pixel whose HSV saturation (0..1) is below this, or whose value is below min_value, has
+    no reliable hue: it falls into the achromatic bin (white, grey, black). A model pixel agrees
+    with the scene when both are achromatic, or both chromatic with hues within hue_tolerance.
+    Default 0.25. */
+    CV_PROP_RW double min_saturation;
+    /** HSV value (0..1) below which a pixel is achromatic (too dark for a hue). Default 0.15. */
+    CV_PROP_RW double min_value;
+    /** Hue tolerance (degrees) of a colour agreement. Default 20. */
+    CV_PROP_RW double hue_tolerance;
+    /** A point of the rendered contour agrees when a scene edge of its orientation (the
+    directional distance maps of computeEdgeMaps(), edge_params) lies within this many pixels.
+    Default 3. */
+    CV_PROP_RW double edge_distance;
+    /** Scene edges of the contour check (orientations, Canny thresholds, max_distance). */
+    CV_PROP_RW EdgeRefineParams edge_params;
+    /** Depth check tolerance, share of the object's diameter (LINEMOD ACCV 2012). Default 0.05. */
+    CV_PROP_RW double depth_tolerance;
+    /** Occlusion: a rendered pixel whose scene depth is nearer than the rendering by more than
+    depth_tolerance is occluded (left out of the colour and depth scores); without depth, a
+    contour point without a matching edge whose neighbourhood disagrees in colour is taken as
+    covered. Whatever is left out, every score is divided by at least min_visible times the
+    points it would count without occlusion, so a hypothesis cannot win by being hidden.
+    Default 0.5. */
+    CV_PROP_RW double min_visible;
+    /** Pixel step of the colour and depth samples inside the rendered mask. Default 2. */
+    CV_PROP_RW int sample_step;
+    /** Weights of the final score, set on rendered RGB scenes (doc/verification.md; w_depth is
+    not tuned yet). */
+    CV_PROP_RW double w_similarity; //!< LINEMOD similarity / 100. Default 0.2
+    CV_PROP_RW double w_color;      //!< color_score. Default 0.5
+    CV_PROP_RW double w_edges;      //!< edge_score. Default 0.3
+    CV_PROP_RW double w_depth;      //!< depth_score, with depth only. Default 0.4
+
+    void read(const FileNode& fn);
+    void write(FileStorage& fs) const;
+};
+
 /** @brief How Detector::estimatePoses turns matches into 6-DoF poses. FileStorage keys are the
 field names. */
 struct CV_EXPORTS_W_SIMPLE PoseParams
@@ -176,6 +231,10 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
     CV_PROP_RW bool rgb_refine;
     /** Parameters of that refinement (see EdgeRefineParams). */
     CV_PROP_RW EdgeRefineParams edge_params;
+    /** detect(): the verification stage that re-ranks the detections (VerificationParams). With
+    it enabled, the best max(max_per_class, verification.top_k) detections per class get a
+    refined pose. */
+    CV_PROP_RW VerificationParams verification;
     /** detect() without depth: the pose of each detection is chosen among this many matches of
     its class at overlapping locations (those that non-maximum suppression merges into it,
     best first), each refined by edge alignment; the one with the highest edge_fit gives the
@@ -193,10 +252,15 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
 /** @brief A match with what cv::linemod::Match lacks: the template's pose label. */
 struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
 {
-    CV_WRAP PoseMatch() : has_pose(false), refined(false), depth_agreement(-1), edge_fit(-1) {}
+    CV_WRAP PoseMatch()
+        : has_pose(false), refined(false), depth_agreement(-1), edge_fit(-1), verification(-1),
+          color_score(-1), edge_score(-1), depth_score(-1), occlusion(-1)
+    {
+    }
     CV_WRAP PoseMatch(const cv::linemod::Match& m)
         : cv::linemod::Match(m), has_pose(false), refined(false), depth_agreement(-1),
-          edge_fit(-1)
+          edge_fit(-1), verification(-1), color_score(-1), edge_score(-1), depth_score(-1),
+          occlusion(-1)
     {
     }
     CV_PROP_RW Rect box;          //!< the template's box at the match (level 0 pixels)
@@ -211,6 +275,21 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
     /** Without depth: inlier ratio of the edge alignment (EdgeRefineResult::inlier_ratio), -1
     when the pose was not refined that way. */
     CV_PROP_RW double edge_fit;
+    // filled by the verification stage (Detector::verify, Detector::detect); -1: not verified
+    /** Final score (0..1) of the verification, the weighted sum of the similarity and the parts
+    below (VerificationParams); verified hypotheses are ranked by it. */
+    CV_PROP_RW double verification;
+    /** Share of the rendered object's visible pixels whose colour agrees with the scene (hue,
+    or both achromatic). */
+    CV_PROP_RW double color_score;
+    /** Share of the rendered contour with a scene edge of its orientation nearby (covered
+    fragments left out). */
+    CV_PROP_RW double edge_score;
+    /** With depth: share of the visible pixels whose scene depth agrees with the rendering. */
+    CV_PROP_RW double depth_score;
+    /** Share of the rendered object taken as occluded (depth nearer; without depth: contour
+    fragments without edge whose colour disagrees). */
+    CV_PROP_RW double occlusion;
 };
 
 /** @brief LINEMOD detector searched through a fuzzy template forest (Shao, Tang, Kim).
@@ -301,10 +380,34 @@ public:
     void estimatePoses(InputArray depth, const Matx33d& K, std::vector<PoseMatch>& matches,
                        const PoseParams& params = PoseParams(), InputArray color = noArray()) const;
 
+    /** @brief Verification stage: re-ranks pose hypotheses on evidence the LINEMOD score does
+    not use.
+
+    The first params.top_k matches of each class that have a pose (has_pose, e.g. from
+    estimatePoses()) and a mesh (setMesh) are rendered at their pose and scored: colour
+    agreement on the visible mask (color_score), agreement of the whole rendered contour with the
+    scene's edges (edge_score, directional chamfer), occlusion (occlusion), and with depth the
+    rendered-vs-scene depth check (depth_score); verification is their weighted sum with the
+    similarity. The verified matches are moved to the front, highest verification first; the
+    others follow in their order. The colour image is needed; depth is optional.
+    @param color CV_8UC3 BGR scene image.
+    @param depth CV_16UC1 scene depth (mm), same size, or empty.
+    @param K     intrinsics of the scene images.
+    @param matches hypotheses (any order; e.g. detect()'s or estimatePoses()'s output).
+    @param params see VerificationParams.
+    @param stats optional: t_verify_ms and verified are added to it.
+    */
+    void verify(InputArray color, InputArray depth, const Matx33d& K,
+                std::vector<PoseMatch>& matches,
+                const VerificationParams& params = VerificationParams(),
+                DetectionStats* stats = 0) const;
+
     /** match() + estimatePoses() in one call: sources as for match(); the depth is taken from the
     DepthNormal source when the detector has one. Without depth, each of the best
     params.max_per_class detections per class takes its pose from the best edge fit among the
-    matches that non-maximum suppression merges into it (PoseParams::rgb_hypotheses). */
+    matches that non-maximum suppression merges into it (PoseParams::rgb_hypotheses). With
+    params.verification.enabled (the default) the detections are then verified and re-ranked
+    (verify()): the returned order is the verification's. */
     void detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
                 std::vector<PoseMatch>& matches,
                 const std::vector<String>& class_ids = std::vector<String>(),

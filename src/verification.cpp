@@ -1,0 +1,564 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The verification stage: the best hypotheses of each class are rendered at their pose and scored
+// on evidence the LINEMOD similarity does not use (colour on the visible mask, the whole rendered
+// contour against the scene's edges, occlusion, depth), then re-ranked by a weighted sum
+// (doc/verification.md).
+
+#include "precomp.hpp"
+#include "params_io.hpp"
+#include "verification.hpp"
+
+#include <map>
+
+namespace cv {
+namespace forestmod {
+
+VerificationParams::VerificationParams()
+    : enabled(true), top_k(10), min_saturation(0.25), min_value(0.15), hue_tolerance(20),
+      edge_distance(3), depth_tolerance(0.05), min_visible(0.5), sample_step(2),
+      w_similarity(0.2), w_color(0.5), w_edges(0.3), w_depth(0.4)
+{
+}
+
+void VerificationParams::read(const FileNode& fn)
+{
+    detail::readField(fn, "enabled", enabled);
+    detail::readField(fn, "top_k", top_k);
+    detail::readField(fn, "min_saturation", min_saturation);
+    detail::readField(fn, "min_value", min_value);
+    detail::readField(fn, "hue_tolerance", hue_tolerance);
+    detail::readField(fn, "edge_distance", edge_distance);
+    if (!fn["edge_params"].empty())
+        edge_params.read(fn["edge_params"]);
+    detail::readField(fn, "depth_tolerance", depth_tolerance);
+    detail::readField(fn, "min_visible", min_visible);
+    detail::readField(fn, "sample_step", sample_step);
+    detail::readField(fn, "w_similarity", w_similarity);
+    detail::readField(fn, "w_color", w_color);
+    detail::readField(fn, "w_edges", w_edges);
+    detail::readField(fn, "w_depth", w_depth);
+}
+
+void VerificationParams::write(FileStorage& fs) const
+{
+    fs << "enabled" << (int)enabled << "top_k" << top_k << "min_saturation" << min_saturation
+       << "min_value" << min_value << "hue_tolerance" << hue_tolerance << "edge_distance"
+       << edge_distance;
+    fs << "edge_params" << "{";
+    edge_params.write(fs);
+    fs << "}";
+    fs << "depth_tolerance" << depth_tolerance << "min_visible" << min_visible << "sample_step"
+       << sample_step << "w_similarity" << w_similarity << "w_color" << w_color << "w_edges"
+       << w_edges << "w_depth" << w_depth;
+}
+
+namespace detail {
+
+Mesh coarseMesh(const Mesh& mesh, double cell)
+{
+    if (!(cell > 0) || mesh.vertices.empty())
+        return mesh;
+    const Point3f lo = mesh.bboxMin();
+    const bool has_colors = mesh.colors.size() == mesh.vertices.size();
+    std::map<int64, int> cell_index;
+    std::vector<int> remap(mesh.vertices.size());
+    std::vector<Vec3d> sum;
+    std::vector<Vec3d> colour;
+    std::vector<int> count;
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+    {
+        const Point3f& v = mesh.vertices[i];
+        const int64 ix = (int64)((v.x - lo.x) / cell), iy = (int64)((v.y - lo.y) / cell),
+                    iz = (int64)((v.z - lo.z) / cell);
+        const int64 key = (ix * 1000003 + iy) * 1000003 + iz;
+        std::map<int64, int>::iterator it = cell_index.find(key);
+        if (it == cell_index.end())
+        {
+            it = cell_index.insert(std::make_pair(key, (int)sum.size())).first;
+            sum.push_back(Vec3d::all(0));
+            colour.push_back(Vec3d::all(0));
+            count.push_back(0);
+        }
+        const int k = it->second;
+        remap[i] = k;
+        sum[k] += Vec3d(v.x, v.y, v.z);
+        if (has_colors)
+            colour[k] += Vec3d(mesh.colors[i][0], mesh.colors[i][1], mesh.colors[i][2]);
+        ++count[k];
+    }
+    Mesh out;
+    for (size_t k = 0; k < sum.size(); ++k)
+    {
+        const Vec3d p = sum[k] * (1.0 / count[k]);
+        out.vertices.push_back(Point3f((float)p[0], (float)p[1], (float)p[2]));
+        if (has_colors)
+        {
+            const Vec3d c = colour[k] * (1.0 / count[k]);
+            out.colors.push_back(Vec3b(saturate_cast<uchar>(c[0]), saturate_cast<uchar>(c[1]),
+                                       saturate_cast<uchar>(c[2])));
+        }
+    }
+    for (size_t f = 0; f < mesh.faces.size(); ++f)
+    {
+        const Vec3i& F = mesh.faces[f];
+        const Vec3i G(remap[F[0]], remap[F[1]], remap[F[2]]);
+        if (G[0] != G[1] && G[1] != G[2] && G[0] != G[2])
+            out.faces.push_back(G);
+    }
+    return out;
+}
+
+static void checkWeight(double w, const char* name)
+{
+    if (!(w >= 0 && w < 1e6))
+        CV_Error_(Error::StsOutOfRange, ("VerificationParams: %s must be a finite weight >= 0, "
+                                         "got %g", name, w));
+}
+
+void checkVerificationParams(const VerificationParams& p)
+{
+    if (p.top_k < 1)
+        CV_Error_(Error::StsOutOfRange, ("VerificationParams: top_k must be >= 1, got %d",
+                                         p.top_k));
+    if (!(p.min_saturation >= 0 && p.min_saturation <= 1) || !(p.min_value >= 0
+                                                                && p.min_value <= 1))
+        CV_Error(Error::StsOutOfRange, "VerificationParams: min_saturation and min_value must be "
+                                       "in [0, 1]");
+    if (!(p.hue_tolerance > 0 && p.hue_tolerance <= 180))
+        CV_Error_(Error::StsOutOfRange, ("VerificationParams: hue_tolerance must be in (0, 180] "
+                                         "degrees, got %g", p.hue_tolerance));
+    if (!(p.edge_distance > 0 && p.edge_distance < p.edge_params.max_distance))
+        CV_Error_(Error::StsOutOfRange, ("VerificationParams: edge_distance must be in (0, "
+                                         "edge_params.max_distance = %g) px, got %g",
+                                         p.edge_params.max_distance, p.edge_distance));
+    if (p.edge_params.orientations < 2 || p.edge_params.orientations > 32
+        || !(p.edge_params.canny_low >= 0 && p.edge_params.canny_high >= p.edge_params.canny_low))
+        CV_Error(Error::StsOutOfRange, "VerificationParams: edge_params needs orientations in "
+                                       "[2, 32] and 0 <= canny_low <= canny_high");
+    if (!(p.depth_tolerance > 0 && p.depth_tolerance < 10))
+        CV_Error_(Error::StsOutOfRange, ("VerificationParams: depth_tolerance must be a share of "
+                                         "the diameter in (0, 10), got %g", p.depth_tolerance));
+    if (!(p.min_visible > 0 && p.min_visible <= 1))
+        CV_Error_(Error::StsOutOfRange, ("VerificationParams: min_visible must be in (0, 1], got "
+                                         "%g", p.min_visible));
+    if (p.sample_step < 1 || p.sample_step > 64)
+        CV_Error_(Error::StsOutOfRange, ("VerificationParams: sample_step must be in [1, 64], got "
+                                         "%d", p.sample_step));
+    checkWeight(p.w_similarity, "w_similarity");
+    checkWeight(p.w_color, "w_color");
+    checkWeight(p.w_edges, "w_edges");
+    checkWeight(p.w_depth, "w_depth");
+    if (!(p.w_similarity + p.w_color + p.w_edges > 0))
+        CV_Error(Error::StsOutOfRange, "VerificationParams: w_similarity + w_color + w_edges must "
+                                       "be > 0");
+}
+
+namespace {
+
+// One hypothesis rendered: the crop (scene image coordinates) around it and the crop-sized images.
+struct Rendered
+{
+    Rect rect; // crop in the scene image
+    Mat color, depth, mask;
+    double diameter;
+};
+
+// The mesh at (R, t) seen with K, drawn into the crop around its projection (the projected
+// bounding box widened by margin, clipped to the image): z-buffered triangles, a pixel is the
+// object's when its centre is covered (the Renderer's rule), vertex colours interpolated (no
+// shading: hue and saturation are what the scores read), depth in mm. The crop is empty when a
+// corner of the bounding box is behind the camera or nothing projects into the image. A few
+// hundred microseconds for LM-O's meshes, and no lock: the hypotheses are drawn in parallel.
+static void rasterize(const Mesh& mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t,
+                      Size image, int margin, Rendered& r)
+{
+    r.rect = Rect();
+    const Point3f lo = mesh.bboxMin(), hi = mesh.bboxMax();
+    double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
+    for (int c = 0; c < 8; ++c)
+    {
+        const Vec3d X = R * Vec3d(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z)
+            + t;
+        if (!(X[2] > 1.0))
+            return;
+        const Vec3d q = K * X;
+        x0 = std::min(x0, q[0] / q[2]);
+        y0 = std::min(y0, q[1] / q[2]);
+        x1 = std::max(x1, q[0] / q[2]);
+        y1 = std::max(y1, q[1] / q[2]);
+    }
+    if (!(x1 - x0 < 4.0 * image.width && y1 - y0 < 4.0 * image.height && x0 > -1e6
+          && y0 > -1e6 && x1 < 1e6 && y1 < 1e6)) // far off the image (and int-safe)
+        return;
+    r.rect = Rect(cvFloor(x0) - margin, cvFloor(y0) - margin, cvCeil(x1 - x0) + 2 * margin + 2,
+                  cvCeil(y1 - y0) + 2 * margin + 2) & Rect(0, 0, image.width, image.height);
+    if (r.rect.area() == 0)
+        return;
+    const Size sz = r.rect.size();
+    // vertices in the crop: (u, v, z)
+    const size_t nv = mesh.vertices.size();
+    std::vector<Vec3f> p(nv);
+    const Matx33d KR = K * R;
+    const Vec3d Kt = K * t;
+    for (size_t i = 0; i < nv; ++i)
+    {
+        const Point3f& v = mesh.vertices[i];
+        const Vec3d q = KR * Vec3d(v.x, v.y, v.z) + Kt;
+        const double z = (R(2, 0) * v.x + R(2, 1) * v.y + R(2, 2) * v.z) + t[2];
+        p[i] = Vec3f((float)(q[0] / q[2] - r.rect.x), (float)(q[1] / q[2] - r.rect.y), (float)z);
+    }
+    Mat zbuf(sz, CV_32F, Scalar(FLT_MAX));
+    Mat col(sz, CV_8UC3, Scalar::all(0));
+    const bool has_colors = mesh.colors.size() == nv;
+    for (size_t f = 0; f < mesh.faces.size(); ++f)
+    {
+        const Vec3i& F = mesh.faces[f];
+        const Vec3f &a = p[F[0]], &b = p[F[1]], &c = p[F[2]];
+        const float area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        if (std::abs(area) < 1e-12f)
+            continue;
+        const int ux0 = std::max(0, (int)std::ceil(std::min(a[0], std::min(b[0], c[0]))));
+        const int ux1 = std::min(sz.width - 1,
+                                 (int)std::floor(std::max(a[0], std::max(b[0], c[0]))));
+        const int vy0 = std::max(0, (int)std::ceil(std::min(a[1], std::min(b[1], c[1]))));
+        const int vy1 = std::min(sz.height - 1,
+                                 (int)std::floor(std::max(a[1], std::max(b[1], c[1]))));
+        if (ux0 > ux1 || vy0 > vy1)
+            continue;
+        const float inv = 1.f / area;
+        for (int y = vy0; y <= vy1; ++y)
+        {
+            float* zr = zbuf.ptr<float>(y);
+            Vec3b* cr = col.ptr<Vec3b>(y);
+            for (int x = ux0; x <= ux1; ++x)
+            {
+                // barycentric weights (signed areas of the sub-triangles)
+                const float w0 = ((b[0] - x) * (c[1] - y) - (b[1] - y) * (c[0] - x)) * inv;
+                const float w1 = ((c[0] - x) * (a[1] - y) - (c[1] - y) * (a[0] - x)) * inv;
+                const float w2 = 1.f - w0 - w1;
+                if (w0 < 0 || w1 < 0 || w2 < 0)
+                    continue;
+                const float z = w0 * a[2] + w1 * b[2] + w2 * c[2];
+                if (!(z < zr[x]))
+                    continue;
+                zr[x] = z;
+                if (has_colors)
+                {
+                    const Vec3b &ca = mesh.colors[F[0]], &cb = mesh.colors[F[1]],
+                                &cc = mesh.colors[F[2]];
+                    for (int k = 0; k < 3; ++k)
+                        cr[x][k] = saturate_cast<uchar>(w0 * ca[k] + w1 * cb[k] + w2 * cc[k]);
+                }
+                else
+                    cr[x] = Vec3b(128, 128, 128);
+            }
+        }
+    }
+    r.mask = zbuf < FLT_MAX;
+    zbuf.setTo(0, ~r.mask);
+    zbuf.convertTo(r.depth, CV_16U);
+    r.depth.setTo(1, r.mask & (r.depth == 0));
+    r.color = col;
+}
+
+// orientation bin of a gradient over 180 degrees (computeEdgeMaps' convention)
+static inline int orientationBin(float dx, float dy, int bins)
+{
+    float a = std::atan2(dy, dx);
+    if (a < 0)
+        a += (float)CV_PI;
+    int b = (int)(a * bins / (float)CV_PI);
+    return b >= bins ? b - bins : b;
+}
+
+// The scene's edges in a crop: 255 where there is none, else the orientation bin of the edge
+// (Canny with the refinement's thresholds; the orientation of the strongest channel's gradient,
+// as computeEdgeMaps)
+static Mat sceneEdgeBins(const Mat& color, const EdgeRefineParams& ep)
+{
+    Mat edges, sx, sy;
+    Canny(color, edges, ep.canny_low, ep.canny_high, 3, true);
+    Sobel(color, sx, CV_32F, 1, 0, 3);
+    Sobel(color, sy, CV_32F, 0, 1, 3);
+    Mat bins(color.size(), CV_8UC1, Scalar(255));
+    const int cn = color.channels();
+    for (int y = 0; y < color.rows; ++y)
+    {
+        const uchar* e = edges.ptr<uchar>(y);
+        const float* px = sx.ptr<float>(y);
+        const float* py = sy.ptr<float>(y);
+        uchar* o = bins.ptr<uchar>(y);
+        for (int x = 0; x < color.cols; ++x)
+        {
+            if (!e[x])
+                continue;
+            int best = 0;
+            float m = -1;
+            for (int c = 0; c < cn; ++c)
+            {
+                const float v = px[x * cn + c] * px[x * cn + c] + py[x * cn + c] * py[x * cn + c];
+                if (v > m)
+                {
+                    m = v;
+                    best = c;
+                }
+            }
+            o[x] = (uchar)orientationBin(px[x * cn + best], py[x * cn + best], ep.orientations);
+        }
+    }
+    return bins;
+}
+
+// colour class of an HSV pixel: -1 achromatic, else the hue (0..179)
+static inline int hueClass(const uchar* hsv, int min_s, int min_v)
+{
+    return hsv[1] < min_s || hsv[2] < min_v ? -1 : (int)hsv[0];
+}
+
+static inline bool colourAgrees(int hm, int hs, int tol)
+{
+    if (hm < 0 || hs < 0)
+        return hm < 0 && hs < 0;
+    int d = std::abs(hm - hs);
+    d = std::min(d, 180 - d);
+    return d <= tol;
+}
+
+// a scene edge of orientation bin b (or a neighbouring one) within radius r of (x, y)
+static bool edgeNear(const Mat& bins, int x, int y, int b, int B, double r)
+{
+    const int R = cvCeil(r);
+    const double r2 = r * r;
+    for (int v = std::max(0, y - R); v <= std::min(bins.rows - 1, y + R); ++v)
+    {
+        const uchar* row = bins.ptr<uchar>(v);
+        for (int u = std::max(0, x - R); u <= std::min(bins.cols - 1, x + R); ++u)
+        {
+            if (row[u] == 255 || (u - x) * (u - x) + (v - y) * (v - y) > r2)
+                continue;
+            const int d = std::abs((int)row[u] - b);
+            if (std::min(d, B - d) <= 1)
+                return true;
+        }
+    }
+    return false;
+}
+
+static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat& scene_depth,
+                            const VerificationParams& p, PoseMatch& m)
+{
+    const Size sz = r.rect.size();
+    const int min_s = cvRound(255 * p.min_saturation), min_v = cvRound(255 * p.min_value);
+    const int hue_tol = std::max(0, cvRound(p.hue_tolerance / 2)); // OpenCV hue: 2 degrees
+    const double tol_mm = p.depth_tolerance * r.diameter;
+    const bool with_depth = !scene_depth.empty();
+    const Mat depth = with_depth ? scene_depth(r.rect) : Mat();
+    Mat hsv_m, hsv_s;
+    cvtColor(r.color, hsv_m, COLOR_BGR2HSV);
+    cvtColor(scene_color(r.rect), hsv_s, COLOR_BGR2HSV);
+    Mat interior;
+    erode(r.mask, interior, Mat(), Point(-1, -1), 2); // colours at the silhouette are mixed
+    if (countNonZero(interior) == 0)
+        interior = r.mask;
+    // per interior pixel: 0 no sample, 1 agrees, 2 disagrees, 3 occluded (depth nearer)
+    Mat state = Mat::zeros(sz, CV_8UC1);
+    int n_all = 0, n_occ = 0, n_col = 0, n_dvalid = 0, n_dvalid_vis = 0, n_dok = 0;
+    for (int y = 0; y < sz.height; ++y)
+    {
+        const uchar* in = interior.ptr<uchar>(y);
+        const uchar* hm = hsv_m.ptr<uchar>(y);
+        const uchar* hs = hsv_s.ptr<uchar>(y);
+        const ushort* rd = r.depth.ptr<ushort>(y);
+        const ushort* sd = with_depth ? depth.ptr<ushort>(y) : 0;
+        uchar* st = state.ptr<uchar>(y);
+        const bool row_sampled = y % p.sample_step == 0;
+        for (int x = 0; x < sz.width; ++x)
+        {
+            if (!in[x])
+                continue;
+            bool occluded = false, dvalid = false;
+            if (with_depth && sd[x] > 0)
+            {
+                dvalid = true;
+                occluded = (double)sd[x] < (double)rd[x] - tol_mm;
+            }
+            const bool agree = !occluded
+                && colourAgrees(hueClass(hm + 3 * x, min_s, min_v),
+                                hueClass(hs + 3 * x, min_s, min_v), hue_tol);
+            st[x] = occluded ? 3 : agree ? 1 : 2;
+            if (!row_sampled || x % p.sample_step != 0)
+                continue;
+            ++n_all;
+            n_occ += occluded;
+            n_col += agree;
+            if (dvalid)
+            {
+                ++n_dvalid;
+                if (!occluded)
+                {
+                    ++n_dvalid_vis;
+                    n_dok += std::abs((double)sd[x] - (double)rd[x]) <= tol_mm;
+                }
+            }
+        }
+    }
+    const int n_vis = n_all - n_occ;
+    m.color_score = n_all > 0 ? n_col / std::max((double)n_vis, p.min_visible * n_all) : 0.0;
+    m.depth_score = !with_depth ? -1.0
+        : n_dvalid > 0 ? n_dok / std::max((double)n_dvalid_vis, p.min_visible * n_dvalid) : 0.0;
+    const double raw_colour = n_vis > 0 ? double(n_col) / n_vis : 0.0;
+
+    // the whole rendered contour against the scene's edges of its orientation
+    const Mat bins = sceneEdgeBins(scene_color(r.rect), p.edge_params);
+    const int B = p.edge_params.orientations;
+    Mat inner, contour, blurred, gx, gy;
+    erode(r.mask, inner, Mat(), Point(-1, -1), 1);
+    contour = r.mask - inner;
+    GaussianBlur(r.mask, blurred, Size(5, 5), 0);
+    Sobel(blurred, gx, CV_32F, 1, 0, 3);
+    Sobel(blurred, gy, CV_32F, 0, 1, 3);
+    const int W = 3; // half window of the local evidence of a contour point
+    int n_contour = 0, n_matched = 0, n_covered = 0;
+    for (int y = 0; y < sz.height; ++y)
+    {
+        const uchar* c = contour.ptr<uchar>(y);
+        for (int x = 0; x < sz.width; ++x)
+        {
+            if (!c[x])
+                continue;
+            ++n_contour;
+            const int b = orientationBin(gx.at<float>(y, x), gy.at<float>(y, x), B);
+            if (edgeNear(bins, x, y, b, B, p.edge_distance))
+            {
+                ++n_matched;
+                continue;
+            }
+            // no edge here: is the fragment covered by something nearer?
+            int occ = 0, dis = 0, agr = 0;
+            for (int v = std::max(0, y - W); v <= std::min(sz.height - 1, y + W); ++v)
+            {
+                const uchar* st = state.ptr<uchar>(v);
+                for (int u = std::max(0, x - W); u <= std::min(sz.width - 1, x + W); ++u)
+                {
+                    occ += st[u] == 3;
+                    agr += st[u] == 1;
+                    dis += st[u] == 2;
+                }
+            }
+            bool covered;
+            if (with_depth)
+                covered = occ > 0 && occ >= agr + dis;
+            else // the object is there (its colour mostly agrees) but not here
+                covered = raw_colour >= 0.5 && dis > agr;
+            n_covered += covered;
+        }
+    }
+    m.edge_score = n_contour > 0
+        ? n_matched / std::max((double)(n_contour - n_covered), p.min_visible * n_contour)
+        : 0.0;
+    m.occlusion = with_depth ? (n_all > 0 ? double(n_occ) / n_all : 0.0)
+                             : (n_contour > 0 ? double(n_covered) / n_contour : 0.0);
+    double wsum = p.w_similarity + p.w_color + p.w_edges;
+    double v = p.w_similarity * m.similarity / 100.0 + p.w_color * m.color_score
+        + p.w_edges * m.edge_score;
+    if (with_depth)
+    {
+        wsum += p.w_depth;
+        v += p.w_depth * m.depth_score;
+    }
+    m.verification = v / wsum;
+}
+
+// no evidence at all (the object is not in the image at this pose): the similarity's share only
+static void noEvidence(const VerificationParams& p, bool with_depth, PoseMatch& m)
+{
+    m.color_score = m.edge_score = m.occlusion = 0;
+    m.depth_score = with_depth ? 0 : -1;
+    m.verification = p.w_similarity * m.similarity / 100.0
+        / (p.w_similarity + p.w_color + p.w_edges + (with_depth ? p.w_depth : 0));
+}
+
+} // namespace
+
+void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, const Matx33d& K,
+                      std::vector<PoseMatch>& matches, const VerificationParams& p,
+                      DetectionStats* stats)
+{
+    checkVerificationParams(p);
+    if (color.empty() || color.type() != CV_8UC3)
+        CV_Error(Error::StsUnsupportedFormat, "forestmod::Detector::verify: color must be a "
+                                              "non-empty CV_8UC3 BGR image");
+    if (!depth.empty() && depth.type() != CV_16UC1)
+        CV_Error_(Error::StsUnsupportedFormat, ("forestmod::Detector::verify: depth must be "
+                                                "CV_16UC1 in mm, got %s",
+                                                typeToString(depth.type()).c_str()));
+    if (!depth.empty() && depth.size() != color.size())
+        CV_Error_(Error::StsUnmatchedSizes, ("forestmod::Detector::verify: depth is %dx%d, color "
+                                             "%dx%d", depth.cols, depth.rows, color.cols,
+                                             color.rows));
+    if (!(K(0, 0) > 0) || !(K(1, 1) > 0))
+        CV_Error(Error::StsBadArg, "forestmod::Detector::verify: K has no focal length");
+    TickMeter tm;
+    tm.start();
+    for (size_t i = 0; i < matches.size(); ++i)
+        matches[i].verification = matches[i].color_score = matches[i].edge_score
+            = matches[i].depth_score = matches[i].occlusion = -1;
+    // 1. the first top_k hypotheses with a pose of each class whose mesh is known
+    std::vector<size_t> todo;
+    std::vector<const Mesh*> meshes;
+    std::vector<double> diameters;
+    std::map<String, int> per_class;
+    for (size_t i = 0; i < matches.size(); ++i)
+    {
+        const PoseMatch& m = matches[i];
+        if (!m.has_pose || per_class[m.class_id] >= p.top_k)
+            continue;
+        double diameter = 0;
+        const Mesh* mesh = poses.verificationMesh(m.class_id, diameter);
+        if (!mesh)
+            continue;
+        ++per_class[m.class_id];
+        todo.push_back(i);
+        meshes.push_back(mesh);
+        diameters.push_back(diameter);
+    }
+    // 2. each drawn in its crop and scored against the scene there
+    const int margin = cvCeil(p.edge_distance) + 4;
+    parallel_for_(Range(0, (int)todo.size()), [&](const Range& range) {
+        for (int j = range.start; j < range.end; ++j)
+        {
+            PoseMatch& m = matches[todo[j]];
+            Rendered r;
+            r.diameter = diameters[j];
+            rasterize(*meshes[j], K, m.R, m.t, color.size(), margin, r);
+            if (r.rect.area() == 0 || countNonZero(r.mask) == 0)
+                noEvidence(p, !depth.empty(), m);
+            else
+                scoreHypothesis(r, color, depth, p, m);
+        }
+    });
+    // 3. verified hypotheses first, best first; the others after them in their order
+    std::vector<PoseMatch> verified, rest;
+    for (size_t i = 0; i < matches.size(); ++i)
+        (matches[i].verification >= 0 ? verified : rest).push_back(matches[i]);
+    std::stable_sort(verified.begin(), verified.end(),
+                     [](const PoseMatch& a, const PoseMatch& b) {
+                         return a.verification > b.verification;
+                     });
+    const int n_verified = (int)todo.size();
+    verified.insert(verified.end(), rest.begin(), rest.end());
+    matches.swap(verified);
+    tm.stop();
+    if (stats)
+    {
+        stats->t_verify_ms += tm.getTimeMilli();
+        stats->verified += n_verified;
+    }
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv

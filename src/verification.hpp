@@ -1,0 +1,37 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: the verification stage. Pose hypotheses are rendered at their pose and scored on
+// colour, contour edges, occlusion and depth, then re-ranked (doc/verification.md).
+
+#ifndef OPENCV_FORESTMOD_VERIFICATION_HPP
+#define OPENCV_FORESTMOD_VERIFICATION_HPP
+
+#include "pose_estimator.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+/** The mesh simplified by vertex clustering: vertices in the same cell of a grid of `cell` mm
+are merged into their mean (position and colour), faces that lose a corner are dropped. The
+verification draws it (LM-O's meshes have 12-46 k faces; with cells of 1/64 of the diameter,
+under 2 px at 650 mm, a few thousand are left). cell <= 0: the mesh as it is. */
+Mesh coarseMesh(const Mesh& mesh, double cell);
+
+/** Throws a cv::Exception naming the first bad field of p. */
+void checkVerificationParams(const VerificationParams& p);
+
+/** Detector::verify: scores the first p.top_k hypotheses with a pose of every class whose mesh
+`poses` holds, fills their verification fields and moves them to the front of `matches`, best
+first. color: CV_8UC3; depth: CV_16UC1 or empty. */
+void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, const Matx33d& K,
+                      std::vector<PoseMatch>& matches, const VerificationParams& p,
+                      DetectionStats* stats);
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif

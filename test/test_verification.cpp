@@ -1,0 +1,322 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The verification stage (Detector::verify, VerificationParams): a decoy that the LINEMOD score
+// prefers loses after verification; parameters round-trip through FileStorage; bad input raises.
+
+#include "test_precomp.hpp"
+
+namespace opencv_test { namespace {
+
+/** A rendered scene over a real LM-O frame: the ape, partly covered by a grey box, and a decoy,
+the ape's shape rendered in blue (its silhouette and shading cut out of another colour), both
+seen from the same template view. */
+struct DecoyScene
+{
+    Mesh ape;
+    Ptr<cv::forestmod::Detector> det;
+    Mat color;
+    Rect object_box, decoy_box;
+
+    DecoyScene()
+        : ape(Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply")))
+    {
+        // gradients only: the LINEMOD score does not see colour (cv::linemod's getDefaultLINE)
+        std::vector<Ptr<linemod::Modality> > mods(1, linemod::Modality::create("ColorGradient"));
+        std::vector<int> T;
+        T.push_back(5);
+        T.push_back(8);
+        det = makePtr<cv::forestmod::Detector>(mods, T);
+        ViewSampler::Params sp;
+        sp.level = 1;
+        sp.min_elevation = 15;
+        sp.radii = std::vector<double>(1, 800.0);
+        sp.inplane_min = -20;
+        sp.inplane_max = 20;
+        sp.inplane_step = 20;
+        const ViewSampler sampler(sp);
+        const Matx33d K = lmoIntrinsics();
+        CV_Assert(det->addTemplates(ape, "ape", sampler, K, Size(640, 480)) > 0);
+        det->train();
+
+        const std::vector<ViewPose> views
+            = sampler.poses(Point3d(ape.center().x, ape.center().y, ape.center().z));
+        const ViewPose& v = views[views.size() / 3];
+        Mesh decoy = ape;
+        decoy.colors.assign(decoy.vertices.size(), Vec3b(210, 110, 30)); // blue (BGR)
+        Ptr<Renderer> r = Renderer::create(Size(640, 480));
+        const int h_ape = r->addMesh(ape), h_decoy = r->addMesh(decoy);
+        // a plain background with sensor noise: the matches are on the object and the decoy
+        color.create(480, 640, CV_8UC3);
+        color.setTo(Scalar(95, 105, 100));
+        Mat noise(color.size(), CV_8UC3);
+        RNG rng(3);
+        rng.fill(noise, RNG::NORMAL, 0, 3);
+        color += noise;
+        Mat c, mask;
+        r->render(h_ape, v.R, v.t + Vec3d(-150, 0, 0), K, c, noArray(), mask);
+        c.copyTo(color, mask);
+        object_box = boundingRect(mask);
+        r->render(h_decoy, v.R, v.t + Vec3d(150, 0, 0), K, c, noArray(), mask);
+        c.copyTo(color, mask);
+        decoy_box = boundingRect(mask);
+        // a grey box over the lower part of the object: its LINEMOD score drops, the decoy's not
+        Rect cover(object_box.x - 5, object_box.y + object_box.height * 6 / 10,
+                   object_box.width + 10, object_box.height);
+        cover &= Rect(0, 0, color.cols, color.rows);
+        color(cover).setTo(Scalar(128, 128, 128));
+    }
+
+    // the hypothesis' centre (projection of the mesh centre) lies in the box
+    bool inside(const PoseMatch& m, const Rect& box) const
+    {
+        const Vec3d p = lmoIntrinsics() * (m.R * Vec3d(ape.center().x, ape.center().y,
+                                                       ape.center().z) + m.t);
+        return box.contains(Point(cvRound(p[0] / p[2]), cvRound(p[1] / p[2])));
+    }
+};
+
+TEST(Forestmod_Verification, decoy_with_the_better_linemod_score_loses)
+{
+    const DecoyScene s;
+    const std::vector<Mat> src(1, s.color);
+    const float threshold = 60.f;
+    // plain matching: the decoy's best match outscores the (partly covered) object's
+    std::vector<PoseMatch> plain;
+    s.det->match(src, threshold, plain);
+    float best_object = 0, best_decoy = 0;
+    for (size_t i = 0; i < plain.size(); ++i)
+    {
+        const Point c = (plain[i].box.tl() + plain[i].box.br()) / 2;
+        if (s.object_box.contains(c))
+            best_object = std::max(best_object, plain[i].similarity);
+        if (s.decoy_box.contains(c))
+            best_decoy = std::max(best_decoy, plain[i].similarity);
+    }
+    ASSERT_GT(best_object, 0.f) << "the object must be among the hypotheses";
+    ASSERT_GT(best_decoy, best_object) << "the scene must fool the LINEMOD score";
+    ASSERT_TRUE(s.decoy_box.contains((plain[0].box.tl() + plain[0].box.br()) / 2));
+
+    // detect() without verification keeps the matcher's order: the decoy first
+    PoseParams off;
+    off.verification.enabled = false;
+    std::vector<PoseMatch> unverified;
+    DetectionStats stats_off;
+    s.det->detect(src, lmoIntrinsics(), threshold, unverified, std::vector<String>(), off,
+                  &stats_off);
+    ASSERT_FALSE(unverified.empty());
+    EXPECT_TRUE(s.inside(unverified[0], s.decoy_box));
+    EXPECT_EQ(unverified[0].verification, -1);
+    EXPECT_EQ(stats_off.verified, 0);
+
+    // with it (the default) the object comes first
+    std::vector<PoseMatch> verified;
+    DetectionStats stats;
+    s.det->detect(src, lmoIntrinsics(), threshold, verified, std::vector<String>(),
+                  PoseParams(), &stats);
+    ASSERT_FALSE(verified.empty());
+    EXPECT_TRUE(s.inside(verified[0], s.object_box));
+    EXPECT_GT(stats.verified, 0);
+    EXPECT_GT(stats.t_verify_ms, 0.0);
+    const PoseMatch* decoy = 0;
+    for (size_t i = 0; i < verified.size() && !decoy; ++i)
+        if (s.inside(verified[i], s.decoy_box) && verified[i].verification >= 0)
+            decoy = &verified[i];
+    ASSERT_TRUE(decoy != 0);
+    EXPECT_GT(decoy->similarity, verified[0].similarity);
+    EXPECT_GT(verified[0].verification, decoy->verification);
+    EXPECT_GT(verified[0].color_score, decoy->color_score + 0.3);
+    // sorted by the verification; every part in [0, 1], no depth part without depth
+    for (size_t i = 0; i < verified.size(); ++i)
+    {
+        if (verified[i].verification < 0)
+            continue;
+        if (i > 0 && verified[i - 1].verification >= 0)
+        {
+            EXPECT_GE(verified[i - 1].verification, verified[i].verification);
+        }
+        EXPECT_LE(verified[i].verification, 1.0);
+        EXPECT_GE(verified[i].color_score, 0.0);
+        EXPECT_LE(verified[i].color_score, 1.0);
+        EXPECT_GE(verified[i].edge_score, 0.0);
+        EXPECT_LE(verified[i].edge_score, 1.0);
+        EXPECT_EQ(verified[i].depth_score, -1.0);
+    }
+    std::cout << "[ INFO    ] LINEMOD score object " << best_object << ", decoy " << best_decoy
+              << "; verification object " << verified[0].verification << " (colour "
+              << verified[0].color_score << ", edges " << verified[0].edge_score << "), decoy "
+              << decoy->verification << " (colour " << decoy->color_score << ", edges "
+              << decoy->edge_score << "); " << stats.verified << " hypotheses verified in "
+              << stats.t_verify_ms << " ms" << std::endl;
+}
+
+// With depth: a flat picture of the object (its colours and contour, on a plane) ranked above
+// the object by the matcher loses on the depth check.
+TEST(Forestmod_Verification, flat_picture_loses_on_depth)
+{
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINEMOD();
+    det->setMesh("ape", ape);
+    const Matx33d K = lmoIntrinsics();
+    const std::vector<ViewPose> views = ViewSampler(ViewSampler::Params::coarse())
+                                            .poses(Point3d(ape.center().x, ape.center().y,
+                                                           ape.center().z));
+    const ViewPose& v = views[2];
+    const Vec3d t_obj = v.t + Vec3d(-120, 0, 0), t_pic = v.t + Vec3d(120, 0, 0);
+    Ptr<Renderer> r = Renderer::create(Size(640, 480));
+    const int h = r->addMesh(ape);
+    Mat color(480, 640, CV_8UC3, Scalar(95, 105, 100));
+    Mat depth(480, 640, CV_16UC1, Scalar(v.t[2] + 150)); // a wall behind both
+    Mat c, d, k;
+    r->render(h, v.R, t_obj, K, c, d, k);
+    c.copyTo(color, k);
+    d.copyTo(depth, k);
+    r->render(h, v.R, t_pic, K, c, d, k);
+    c.copyTo(color, k); // the picture: the object's image ...
+    depth.setTo(Scalar(cvRound(t_pic[2] + 60)), k); // ... on a plane
+    std::vector<PoseMatch> m(2);
+    m[0].class_id = m[1].class_id = "ape";
+    m[0].similarity = 95.f; // the picture first
+    m[1].similarity = 80.f;
+    m[0].R = m[1].R = v.R;
+    m[0].t = t_pic;
+    m[1].t = t_obj;
+    m[0].has_pose = m[1].has_pose = true;
+    m[0].template_id = 0;
+    m[1].template_id = 1;
+    std::vector<PoseMatch> rgb = m;
+    det->verify(color, noArray(), K, rgb);
+    ASSERT_EQ(rgb.size(), 2u);
+    EXPECT_EQ(rgb[0].template_id, 0) << "without depth the two look alike: the matcher decides";
+    det->verify(color, depth, K, m);
+    ASSERT_EQ(m.size(), 2u);
+    EXPECT_EQ(m[0].template_id, 1);
+    EXPECT_GT(m[0].depth_score, 0.9);
+    EXPECT_LT(m[1].depth_score, 0.5);
+    EXPECT_GT(m[0].color_score, 0.9);
+    EXPECT_GT(m[1].color_score, 0.9);
+}
+
+TEST(Forestmod_Verification, verify_keeps_unverifiable_hypotheses_in_order)
+{
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    std::vector<PoseMatch> m(3);
+    for (int i = 0; i < 3; ++i)
+    {
+        m[i].class_id = "no_mesh";
+        m[i].template_id = i;
+        m[i].similarity = 90.f - i;
+        m[i].has_pose = true;
+        m[i].R = Matx33d::eye();
+        m[i].t = Vec3d(0, 0, 800);
+    }
+    m[1].has_pose = false;
+    const Mat color(480, 640, CV_8UC3, Scalar(30, 60, 90));
+    DetectionStats stats;
+    det->verify(color, noArray(), lmoIntrinsics(), m, VerificationParams(), &stats);
+    ASSERT_EQ(m.size(), 3u);
+    for (int i = 0; i < 3; ++i)
+    {
+        EXPECT_EQ(m[i].template_id, i);
+        EXPECT_EQ(m[i].verification, -1.0);
+    }
+    EXPECT_EQ(stats.verified, 0);
+}
+
+TEST(Forestmod_Verification, params_read_write)
+{
+    VerificationParams p;
+    p.enabled = false;
+    p.top_k = 7;
+    p.min_saturation = 0.3;
+    p.min_value = 0.2;
+    p.hue_tolerance = 25;
+    p.edge_distance = 2.5;
+    p.edge_params.orientations = 8;
+    p.depth_tolerance = 0.07;
+    p.min_visible = 0.4;
+    p.sample_step = 3;
+    p.w_similarity = 0.1;
+    p.w_color = 0.5;
+    p.w_edges = 0.3;
+    p.w_depth = 0.6;
+    PoseParams pp;
+    pp.verification = p;
+    FileStorage fs(".yml", FileStorage::WRITE | FileStorage::MEMORY);
+    fs << "pose" << "{";
+    pp.write(fs);
+    fs << "}";
+    const String text = fs.releaseAndGetString();
+    FileStorage in(text, FileStorage::READ | FileStorage::MEMORY);
+    PoseParams qq;
+    qq.read(in["pose"]);
+    const VerificationParams& q = qq.verification;
+    EXPECT_EQ(q.enabled, p.enabled);
+    EXPECT_EQ(q.top_k, p.top_k);
+    EXPECT_EQ(q.min_saturation, p.min_saturation);
+    EXPECT_EQ(q.min_value, p.min_value);
+    EXPECT_EQ(q.hue_tolerance, p.hue_tolerance);
+    EXPECT_EQ(q.edge_distance, p.edge_distance);
+    EXPECT_EQ(q.edge_params.orientations, p.edge_params.orientations);
+    EXPECT_EQ(q.depth_tolerance, p.depth_tolerance);
+    EXPECT_EQ(q.min_visible, p.min_visible);
+    EXPECT_EQ(q.sample_step, p.sample_step);
+    EXPECT_EQ(q.w_similarity, p.w_similarity);
+    EXPECT_EQ(q.w_color, p.w_color);
+    EXPECT_EQ(q.w_edges, p.w_edges);
+    EXPECT_EQ(q.w_depth, p.w_depth);
+    // absent keys keep their values (files of older versions)
+    FileStorage empty("{}", FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_JSON);
+    VerificationParams d;
+    d.read(empty.root());
+    EXPECT_EQ(d.top_k, VerificationParams().top_k);
+    EXPECT_EQ(d.w_color, VerificationParams().w_color);
+}
+
+TEST(Forestmod_Verification, bad_input_raises)
+{
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    std::vector<PoseMatch> m(1);
+    const Mat color(480, 640, CV_8UC3, Scalar::all(0));
+    const Matx33d K = lmoIntrinsics();
+    EXPECT_THROW(det->verify(Mat(), noArray(), K, m), cv::Exception);
+    EXPECT_THROW(det->verify(Mat(480, 640, CV_8UC1), noArray(), K, m), cv::Exception);
+    EXPECT_THROW(det->verify(color, Mat(480, 640, CV_32FC1), K, m), cv::Exception);
+    EXPECT_THROW(det->verify(color, Mat(240, 320, CV_16UC1), K, m), cv::Exception);
+    EXPECT_THROW(det->verify(color, noArray(), Matx33d::zeros(), m), cv::Exception);
+    VerificationParams p;
+    p.top_k = 0;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.w_color = -1;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.w_similarity = p.w_color = p.w_edges = 0;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.edge_distance = p.edge_params.max_distance;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.hue_tolerance = 0;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.min_visible = 0;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.edge_params.orientations = 1;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.sample_step = 0;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    // detect() checks the verification's parameters too
+    PoseParams pp;
+    pp.verification.top_k = 0;
+    std::vector<PoseMatch> out;
+    EXPECT_THROW(det->detect(std::vector<Mat>(2, color), K, 80.f, out, std::vector<String>(), pp),
+                 cv::Exception);
+    // the defaults are valid
+    EXPECT_NO_THROW(det->verify(color, noArray(), K, m));
+}
+
+}} // namespace
