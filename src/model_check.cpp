@@ -148,6 +148,25 @@ static void checkBase64Blocks(const std::string& text, const String& filename)
     }
 }
 
+// A YAML model's first line is the directive alone ("%YAML:1.0" as OpenCV writes it, or
+// "%YAML 1.x"): OpenCV 4.6's parser loops forever on some files with more on that line (found by
+// fuzzing).
+static void checkYamlDirective(const std::string& text, const String& filename)
+{
+    if (text.compare(0, 5, "%YAML") != 0)
+        return;
+    const std::string line = text.substr(0, text.find_first_of("\r\n"));
+    const size_t end = line.find_last_not_of(" \t");
+    const std::string directive = line.substr(0, end + 1);
+    const bool ok = directive.size() >= 9 && directive.size() <= 12
+        && (directive[5] == ':' || directive[5] == ' ') && directive.compare(6, 2, "1.") == 0
+        && directive.find_first_not_of("0123456789", 8) == std::string::npos;
+    if (!ok)
+        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is corrupt: its first "
+                                         "line must be the YAML directive alone (\"%%YAML:1.0\")",
+                                         filename.c_str()));
+}
+
 // YAML and JSON text: every '[' and '{' outside quoted strings and comments closed by its own
 // bracket, none left open at the end (see readModelText). XML is left to its parser.
 static void checkBrackets(const std::string& text, const String& filename)
@@ -238,6 +257,7 @@ String readModelText(const String& filename)
         CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is empty",
                                          filename.c_str()));
     checkBase64Blocks(text, filename);
+    checkYamlDirective(text, filename);
     checkBrackets(text, filename);
     return text;
 }

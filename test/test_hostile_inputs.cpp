@@ -508,8 +508,9 @@ TEST(Forestmod_HostileInputs, dangling_symlink_output_is_not_written_through)
 
 // ---- the fuzz targets' seeds and findings ---------------------------------------------------
 
-// A model file's brackets must balance (OpenCV's YAML parser hangs on a stray ']' followed by an
-// unclosed '['): refused when they do not, while brackets, quotes and '#' inside class ids, in
+// A model file's brackets must balance and its YAML directive stand alone on the first line
+// (OpenCV's YAML parser hangs on a stray ']' followed by an unclosed '[', and on some files with
+// more on the directive's line): refused when they do not, while brackets, quotes and '#' inside class ids, in
 // YAML, JSON and XML, still load.
 TEST(Forestmod_HostileInputs, model_file_brackets)
 {
@@ -519,6 +520,9 @@ TEST(Forestmod_HostileInputs, model_file_brackets)
     EXPECT_NE(std::string::npos,
               loadError(mutate(text, "pyramid_levels: 2", "pyramid_levels: [ 2 }"))
                   .find("closes no open bracket"));
+    EXPECT_NE(std::string::npos,
+              loadError(mutate(text, "%YAML:1.0", "%YAML:1.0 - [ 7 ]")).find("directive alone"));
+    EXPECT_EQ("", loadError(mutate(text, "%YAML:1.0", "%YAML:1.0  ")));
 
     const char* formats[] = { ".yml", ".json", ".xml" };
     for (int f = 0; f < 3; ++f)
