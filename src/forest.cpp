@@ -68,16 +68,21 @@ void ForestParams::write(FileStorage& fs) const
     fs << "seed" << seed;
 }
 
-static void checkParams(const ForestParams& p)
+namespace detail {
+
+void checkForestParams(const ForestParams& p)
 {
     CV_CheckGE(p.num_trees, 1, "ForestParams::num_trees must be >= 1");
     CV_CheckGE(p.max_depth, 0, "ForestParams::max_depth must be >= 0");
     CV_CheckLE(p.max_depth, 30, "ForestParams::max_depth must be <= 30");
     CV_CheckGE(p.min_node_size, 1, "ForestParams::min_node_size must be >= 1");
-    CV_CheckGE(p.split_dims, 1, "ForestParams::split_dims (d') must be >= 1");
-    CV_CheckGE(p.pool_size, 1, "ForestParams::pool_size must be >= 1");
+    CV_Check(p.split_dims, p.split_dims >= 1 && p.split_dims <= 4096,
+             "ForestParams::split_dims (d') must be in [1, 4096]");
+    CV_Check(p.pool_size, p.pool_size >= 1 && p.pool_size <= 65536,
+             "ForestParams::pool_size must be in [1, 65536]");
     CV_CheckGE(p.fuzzy_margin, 0.f, "ForestParams::fuzzy_margin (xi) must be >= 0");
-    CV_CheckGE(p.rejector_dims, 0, "ForestParams::rejector_dims must be >= 0");
+    CV_Check(p.rejector_dims, p.rejector_dims >= 0 && p.rejector_dims <= 4096,
+             "ForestParams::rejector_dims must be in [0, 4096]");
     CV_Check(p.rejector_rho, p.rejector_rho >= 0.f && p.rejector_rho < 1.f,
              "ForestParams::rejector_rho must be in [0, 1)");
     CV_Check(p.rejector_tau, p.rejector_tau >= 0.f && p.rejector_tau <= 1.f,
@@ -89,6 +94,8 @@ static void checkParams(const ForestParams& p)
     CV_Check(p.rejector_noise, p.rejector_noise >= 0.f && p.rejector_noise < 1.f,
              "ForestParams::rejector_noise must be in [0, 1)");
 }
+
+} // namespace detail
 
 void ForestQueryStats::add(const ForestQueryStats& o)
 {
@@ -568,7 +575,7 @@ class TemplateForestImpl CV_FINAL : public TemplateForest
 public:
     explicit TemplateForestImpl(const ForestParams& p) : params_(p), D_(0), N_(0), dsplit_(0)
     {
-        checkParams(p);
+        detail::checkForestParams(p);
     }
 
     void train(InputArray _desc, InputArray _fg) CV_OVERRIDE
@@ -823,7 +830,7 @@ public:
         if (fn["params"].empty())
             CV_Error(Error::StsParseError, "TemplateForest::read: 'params' missing");
         p.read(fn["params"]);
-        checkParams(p);
+        detail::checkForestParams(p);
         const FileNode fd = fn["dims"], fnn = fn["num_templates"], fds = fn["split_dims_used"],
                        ft = fn["trees"];
         if (fd.empty() || fnn.empty() || fds.empty() || ft.empty() || !ft.isSeq())

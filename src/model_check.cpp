@@ -73,8 +73,7 @@ void checkDetectorParams(const DetectorParams& p)
              p.auto_depth_leaf_samples >= 0.f && finite(p.auto_depth_leaf_samples),
              "DetectorParams: auto_depth_leaf_samples must be finite and >= 0 (0: the paper's "
              "depth)");
-    // the forest's own ranges are checked where a forest is made (TemplateForest::create); the
-    // sizes that cost memory before that are bounded here
+    checkForestParams(p.forest);
     CV_Check(p.forest.num_trees, p.forest.num_trees >= 1 && p.forest.num_trees <= 1000,
              "DetectorParams: forest.num_trees must be in [1, 1000]");
     CV_Check(p.forest.max_depth, p.forest.max_depth >= 0 && p.forest.max_depth <= 30,

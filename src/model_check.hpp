@@ -34,6 +34,11 @@ enum ModelLimits
 constructor, setParams and the model loader alike. */
 void checkDetectorParams(const DetectorParams& p);
 
+/** ForestParams in their documented ranges (forest.hpp); used where a forest is made and by
+checkDetectorParams, so that a model file's forest parameters are refused on load, not when the
+first match() trains (defined in forest.cpp). */
+void checkForestParams(const ForestParams& p);
+
 /** The text of a model file (a .gz file decompressed), for cv::FileStorage::MEMORY: at most
 1 GiB, and every base64 block (YAML "!!binary |", JSON "$base64$", XML type_id="binary")
 starting with a data type header: OpenCV 4.6's base64 reader loops forever on a block whose

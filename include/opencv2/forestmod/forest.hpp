@@ -63,10 +63,10 @@ struct CV_EXPORTS_W_SIMPLE ForestParams
     "tens, at most a hundred" templates; smaller sets are validated faster than traversed. */
     CV_PROP_RW int min_node_size;
     /** d': dimensions per exemplar split test (paper: d' > 2 for heavily quantized, noisy
-    features). Default 32 (of D = 128 in the benchmark), measured (doc/forest.md). */
+    features). Default 32 (of D = 128 in the benchmark), measured (doc/forest.md); at most 4096. */
     CV_PROP_RW int split_dims;
     /** |Theta|: number of random split candidates (exemplar, dims, tau) per node, the paper's
-    small random pool. Default 32, measured (doc/forest.md). */
+    small random pool. Default 32, measured (doc/forest.md); at most 65536. */
     CV_PROP_RW int pool_size;
     /** xi: fuzzy margin in units of the distance (number of disagreeing dims). tau is
     half-integral, so a template goes to both children when |distance - tau| < xi: xi = 1
@@ -79,7 +79,7 @@ struct CV_EXPORTS_W_SIMPLE ForestParams
     CV_PROP_RW float split_coverage;
     /** Maximum number of dimensions tested by the background rejector of a node (the rejector
     keeps the prefix of its lowest-entropy dims that separates background best). Default 32.
-    0 disables the rejectors. */
+    0 disables the rejectors; at most 4096. */
     CV_PROP_RW int rejector_dims;
     /** rho: a label is in a rejector dimension's look-up table when its frequency among the
     node's foreground templates is above rho. Default 0 (every label a foreground template has
