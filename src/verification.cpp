@@ -170,8 +170,8 @@ struct Rendered
 // bounding box widened by margin, clipped to the image): z-buffered triangles, a pixel is the
 // object's when its centre is covered (the Renderer's rule), vertex colours interpolated (no
 // shading: hue and saturation are what the scores read), depth in mm. The crop is empty when a
-// corner of the bounding box is behind the camera or nothing projects into the image. A few
-// hundred microseconds for LM-O's meshes, and no lock: the hypotheses are drawn in parallel.
+// corner of the bounding box is behind the camera or nothing projects into the image. No lock
+// (unlike the OSMesa Renderer): the hypotheses are drawn in parallel.
 static void rasterize(const Mesh& mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t,
                       Size image, int margin, Rendered& r)
 {

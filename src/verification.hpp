@@ -17,7 +17,8 @@ namespace detail {
 /** The mesh simplified by vertex clustering: vertices in the same cell of a grid of `cell` mm
 are merged into their mean (position and colour), faces that lose a corner are dropped. The
 verification draws it (LM-O's meshes have 12-46 k faces; with cells of 1/64 of the diameter,
-under 2 px at 650 mm, a few thousand are left). cell <= 0: the mesh as it is. */
+under 2 px at 650 mm, 11-18 k are left: the can 45.7 k -> 16.2 k, the ape hardly changes).
+cell <= 0: the mesh as it is. */
 Mesh coarseMesh(const Mesh& mesh, double cell);
 
 /** Throws a cv::Exception naming the first bad field of p. */
