@@ -347,8 +347,11 @@ static bool edgeNear(const Mat& bins, int x, int y, int b, int B, double r)
     return false;
 }
 
-static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat& scene_depth,
-                            const VerificationParams& p, PoseMatch& m)
+// Colour and depth agreement on the interior of the drawn mask; `state` receives per interior
+// pixel 0 no sample, 1 agrees, 2 disagrees, 3 occluded (depth nearer). Returns the share of
+// visible samples whose colour agrees.
+static double scoreInterior(const Rendered& r, const Mat& scene_color, const Mat& scene_depth,
+                            const VerificationParams& p, Mat& state, PoseMatch& m)
 {
     const Size sz = r.rect.size();
     const int min_s = cvRound(255 * p.min_saturation), min_v = cvRound(255 * p.min_value);
@@ -363,8 +366,7 @@ static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat
     erode(r.mask, interior, Mat(), Point(-1, -1), 2); // colours at the silhouette are mixed
     if (countNonZero(interior) == 0)
         interior = r.mask;
-    // per interior pixel: 0 no sample, 1 agrees, 2 disagrees, 3 occluded (depth nearer)
-    Mat state = Mat::zeros(sz, CV_8UC1);
+    state = Mat::zeros(sz, CV_8UC1);
     int n_all = 0, n_occ = 0, n_col = 0, n_dvalid = 0, n_dvalid_vis = 0, n_dok = 0;
     for (int y = 0; y < sz.height; ++y)
     {
@@ -410,8 +412,17 @@ static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat
     m.depth_score = !with_depth ? -1.0
         : n_dvalid > 0 ? n_dok / std::max((double)n_dvalid_vis, p.min_visible * n_dvalid) : 0.0;
     const double raw_colour = n_vis > 0 ? double(n_col) / n_vis : 0.0;
+    m.occlusion = n_all > 0 ? double(n_occ) / n_all : 0.0; // scoreContour's without depth
+    return raw_colour;
+}
 
-    // the whole rendered contour against the scene's edges of its orientation
+// The whole drawn contour against the scene's edges of its orientation; a contour point without
+// an edge is excused when the pixels around it say it is covered (`state` of scoreInterior).
+static void scoreContour(const Rendered& r, const Mat& scene_color, bool with_depth,
+                         double raw_colour, const Mat& state, const VerificationParams& p,
+                         PoseMatch& m)
+{
+    const Size sz = r.rect.size();
     const Mat bins = sceneEdgeBins(scene_color(r.rect), p.edge_params);
     const int B = p.edge_params.orientations;
     Mat inner, contour, blurred, gx, gy;
@@ -459,8 +470,17 @@ static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat
     m.edge_score = n_contour > 0
         ? n_matched / std::max((double)(n_contour - n_covered), p.min_visible * n_contour)
         : 0.0;
-    m.occlusion = with_depth ? (n_all > 0 ? double(n_occ) / n_all : 0.0)
-                             : (n_contour > 0 ? double(n_covered) / n_contour : 0.0);
+    if (!with_depth)
+        m.occlusion = n_contour > 0 ? double(n_covered) / n_contour : 0.0;
+}
+
+static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat& scene_depth,
+                            const VerificationParams& p, PoseMatch& m)
+{
+    const bool with_depth = !scene_depth.empty();
+    Mat state;
+    const double raw_colour = scoreInterior(r, scene_color, scene_depth, p, state, m);
+    scoreContour(r, scene_color, with_depth, raw_colour, state, p, m);
     double wsum = p.w_similarity + p.w_color + p.w_edges;
     double v = p.w_similarity * m.similarity / 100.0 + p.w_color * m.color_score
         + p.w_edges * m.edge_score;
