@@ -412,7 +412,8 @@ static double scoreInterior(const Rendered& r, const Mat& scene_color, const Mat
     m.depth_score = !with_depth ? -1.0
         : n_dvalid > 0 ? n_dok / std::max((double)n_dvalid_vis, p.min_visible * n_dvalid) : 0.0;
     const double raw_colour = n_vis > 0 ? double(n_col) / n_vis : 0.0;
-    m.occlusion = n_all > 0 ? double(n_occ) / n_all : 0.0; // with depth; scoreContour sets it without
+    // the occlusion share with depth (scoreContour sets it without)
+    m.occlusion = n_all > 0 ? double(n_occ) / n_all : 0.0;
     return raw_colour;
 }
 
