@@ -168,7 +168,8 @@ void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
     if (!matches.empty())
         parallel_for_(Range(0, (int)scene.levels.size() - 1), [&](const Range& range) {
             for (int l = range.start; l < range.end; ++l)
-                linear[l].build(scene.levels[l]);
+                linear[l].build(scene.levels[l], scene.tiles[l],
+                                Size(ScenePyramid::TILE_W, ScenePyramid::TILE_H));
         });
     parallel_for_(Range(0, (int)matches.size()), [&](const Range& range) {
         for (int k = range.start; k < range.end; ++k)

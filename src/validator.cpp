@@ -54,7 +54,25 @@ void PaddedResponses::featureOffsets(const TemplatePyramid& tp, int level_index,
     begin[modalities] = static_cast<int>(offsets.size());
 }
 
-void LinearMemories::build(const LevelMaps& level)
+// Cell columns [c0, c1] of cell row `cy`: dst(dx, dy)[cy * stride + cx] = src(cy T + dy)[cx T + dx]
+// for the pixels inside the map (the others stay 0).
+static void gatherCells(const Mat& r, int T, size_t plane, int stride, int cy, int c0, int c1,
+                        uchar* dst)
+{
+    for (int dy = 0; dy < T && cy * T + dy < r.rows; ++dy)
+    {
+        const uchar* src = r.ptr<uchar>(cy * T + dy);
+        for (int dx = 0; dx < T; ++dx)
+        {
+            uchar* d = dst + (size_t)(dy * T + dx) * plane + (size_t)cy * stride;
+            const int last = std::min(c1, (r.cols - 1 - dx) / T);
+            for (int cx = c0; cx <= last; ++cx)
+                d[cx] = src[cx * T + dx];
+        }
+    }
+}
+
+void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
 {
     T = level.T;
     cells_x = level.size.width / T;
@@ -64,21 +82,52 @@ void LinearMemories::build(const LevelMaps& level)
     const int M = static_cast<int>(level.response.size());
     const size_t n = (size_t)stride * rows;
     data.assign(n * T * T * 8 * M, 0);
+    // the runs of cells to fill, per cell row: every cell, or those touching a marked tile
+    std::vector<Vec2i> runs;
+    std::vector<int> run_begin(rows + 1, 0);
+    std::vector<uchar> covered(stride);
+    for (int cy = 0; cy < rows; ++cy)
+    {
+        run_begin[cy] = static_cast<int>(runs.size());
+        if (tiles.empty())
+        {
+            runs.push_back(Vec2i(0, stride - 1));
+            continue;
+        }
+        std::fill(covered.begin(), covered.end(), (uchar)0);
+        const int ty0 = cy * T / tile.height;
+        const int ty1 = std::min(tiles.rows - 1, (cy * T + T - 1) / tile.height);
+        for (int ty = ty0; ty <= ty1; ++ty)
+        {
+            const uchar* g = tiles.ptr<uchar>(ty);
+            for (int tx = 0; tx < tiles.cols; ++tx)
+                if (g[tx])
+                    for (int cx = tx * tile.width / T;
+                         cx <= std::min(stride - 1, (tx * tile.width + tile.width - 1) / T); ++cx)
+                        covered[cx] = 1;
+        }
+        for (int cx = 0; cx < stride;)
+        {
+            if (!covered[cx])
+            {
+                ++cx;
+                continue;
+            }
+            const int c0 = cx;
+            while (cx < stride && covered[cx])
+                ++cx;
+            runs.push_back(Vec2i(c0, cx - 1));
+        }
+    }
+    run_begin[rows] = static_cast<int>(runs.size());
     for (int m = 0; m < M; ++m)
         for (int o = 0; o < 8; ++o)
         {
             const Mat& r = level.response[m][o];
-            for (int dy = 0; dy < T; ++dy)
-                for (int dx = 0; dx < T; ++dx)
-                {
-                    uchar* dst = &data[index(m, o, dx, dy)];
-                    for (int cy = 0; cy < rows && cy * T + dy < r.rows; ++cy)
-                    {
-                        const uchar* src = r.ptr<uchar>(cy * T + dy);
-                        for (int cx = 0; cx < stride && cx * T + dx < r.cols; ++cx)
-                            dst[cy * stride + cx] = src[cx * T + dx];
-                    }
-                }
+            uchar* dst = &data[index(m, o, 0, 0)];
+            for (int cy = 0; cy < rows; ++cy)
+                for (int k = run_begin[cy]; k < run_begin[cy + 1]; ++k)
+                    gatherCells(r, T, n, stride, cy, runs[k][0], runs[k][1], dst);
         }
 }
 

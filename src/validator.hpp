@@ -60,7 +60,10 @@ struct CV_EXPORTS LinearMemories
     int stride, rows;       //!< cells of a memory
 
     LinearMemories() : T(1), cells_x(0), cells_y(0), stride(0), rows(0) {}
-    void build(const LevelMaps& level);
+    /** From the level's response maps; with `tiles` (a grid of `tile`-sized pixel tiles, nonzero
+    where the maps are valid, ScenePyramid::tiles) only the cells touching a marked tile, the
+    others 0. */
+    void build(const LevelMaps& level, const Mat& tiles = Mat(), Size tile = Size());
     size_t index(int modality, int label, int dx, int dy) const
     {
         return ((size_t)(modality * 8 + label) * T * T + dy * T + dx) * (size_t)(stride * rows);

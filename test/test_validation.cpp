@@ -5,7 +5,8 @@
 // The validator's fast paths against LINEMOD's similarity read in place (detail::similarityAll):
 // the forest path's zero-bordered maps (scoreAt) at any top-left, in or partly out of the image,
 // the exhaustive path's linearized memories (scoreEverywhere) at every position of the T grid and
-// the refinement's local search (scoreLocal), with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included.
+// the refinement's local search (scoreLocal), with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included; the
+// linearized memories built only where the scene pyramid's tiles are valid.
 
 #include "test_precomp.hpp"
 #include "../src/validator.hpp"
@@ -114,6 +115,59 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
         }
         EXPECT_GT(compared, 1000);
         EXPECT_GT(nonzero, compared / 2);
+    }
+}
+
+// LinearMemories::build with a tile grid: the cells touching a marked tile as in the full build,
+// every other cell 0.
+TEST(Forestmod_Validation, linear_memories_of_marked_tiles_equal_the_full_ones)
+{
+    RNG rng(7);
+    for (const Size& size : { Size(320, 240), Size(203, 157) })
+    {
+        LevelMaps level = randomLevel(rng, size);
+        level.T = 5; // a cell size that does not divide the tiles
+        const Size tile(64, 32);
+        Mat tiles = Mat::zeros((size.height + tile.height - 1) / tile.height,
+                               (size.width + tile.width - 1) / tile.width, CV_8U);
+        for (int k = 0; k < tiles.rows * tiles.cols / 3; ++k)
+            tiles.at<uchar>(rng.uniform(0, tiles.rows), rng.uniform(0, tiles.cols)) = 1;
+        tiles.at<uchar>(tiles.rows - 1, tiles.cols - 1) = 1; // the partial tiles at the far edges
+        LinearMemories full, part;
+        full.build(level);
+        part.build(level, tiles, tile);
+        ASSERT_EQ(full.data.size(), part.data.size());
+        ASSERT_EQ(full.stride, part.stride);
+        int inside = 0, outside = 0;
+        for (int m = 0; m < 2; ++m)
+            for (int o = 0; o < 8; ++o)
+                for (int dy = 0; dy < 5; ++dy)
+                    for (int dx = 0; dx < 5; ++dx)
+                        for (int cy = 0; cy < full.rows; ++cy)
+                            for (int cx = 0; cx < full.stride; ++cx)
+                            {
+                                bool marked = false;
+                                for (int ty = cy * 5 / tile.height;
+                                     ty <= (cy * 5 + 4) / tile.height && ty < tiles.rows; ++ty)
+                                    for (int tx = cx * 5 / tile.width;
+                                         tx <= (cx * 5 + 4) / tile.width && tx < tiles.cols; ++tx)
+                                        marked = marked || tiles.at<uchar>(ty, tx);
+                                const size_t i = full.index(m, o, dx, dy) + cy * full.stride + cx;
+                                if (marked)
+                                {
+                                    ASSERT_EQ(full.data[i], part.data[i]) << size << " cell " << cx
+                                                                          << "," << cy;
+                                    ++inside;
+                                }
+                                else
+                                {
+                                    ASSERT_EQ(0, part.data[i]) << size << " cell " << cx << ","
+                                                               << cy;
+                                    ++outside;
+                                }
+                            }
+        EXPECT_GT(inside, 1000);
+        EXPECT_GT(outside, 1000);
     }
 }
 
