@@ -9,8 +9,8 @@
 
 #include "precomp.hpp"
 #include "validator.hpp"
+#include "score_kernels.hpp"
 
-#include "opencv2/core/hal/intrin.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -137,37 +137,6 @@ void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
 // 16-bit sums: at most this many features (4 each)
 static const int kMaxSum16 = 65535 / 4;
 
-// dst[0 .. n) += src[0 .. n), 8-bit (the caller keeps the sum under 256)
-static void addRun8(uchar* dst, const uchar* src, int n)
-{
-    int k = 0;
-#if CV_SIMD
-    const int w = v_uint8::nlanes;
-    for (; k <= n - w; k += w)
-        v_store(dst + k, v_add_wrap(v_load(dst + k), v_load(src + k)));
-#endif
-    for (; k < n; ++k)
-        dst[k] = (uchar)(dst[k] + src[k]);
-}
-
-// dst[0 .. n) += src[0 .. n), widened to 16 bits
-static void widenAdd(ushort* dst, const uchar* src, int n)
-{
-    int k = 0;
-#if CV_SIMD
-    const int w = v_uint8::nlanes;
-    for (; k <= n - w; k += w)
-    {
-        v_uint16 lo, hi;
-        v_expand(v_load(src + k), lo, hi);
-        v_store(dst + k, v_load(dst + k) + lo);
-        v_store(dst + k + w / 2, v_load(dst + k + w / 2) + hi);
-    }
-#endif
-    for (; k < n; ++k)
-        dst[k] = (ushort)(dst[k] + src[k]);
-}
-
 bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
                      int num_modalities, int& span_x, int& span_y, std::vector<ushort>& scores,
                      std::vector<uchar>& acc8)
@@ -268,19 +237,7 @@ bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_i
             const cv::linemod::Feature& f = t.features[i];
             const uchar* src = lm.memory(m, f.label, f.x % T, f.y % T)
                 + (cy + f.y / T) * lm.stride + cx + f.x / T;
-            for (int r = 0; r < 16; ++r, src += lm.stride)
-            {
-                ushort* a = acc + r * 16;
-#if CV_SIMD128
-                v_uint16x8 lo, hi;
-                v_expand(v_load(src), lo, hi);
-                v_store(a, v_load(a) + lo);
-                v_store(a + 8, v_load(a + 8) + hi);
-#else
-                for (int c = 0; c < 16; ++c)
-                    a[c] = (ushort)(a[c] + src[c]);
-#endif
-            }
+            addBlock16(acc, src, lm.stride);
         }
     }
     for (int k = 0; k < 256; ++k)

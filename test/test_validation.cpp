@@ -11,6 +11,7 @@
 #include "test_precomp.hpp"
 #include "../src/validator.hpp"
 #include "../src/quantize_fast.hpp"
+#include "../src/score_kernels.hpp"
 
 namespace opencv_test { namespace {
 
@@ -169,6 +170,43 @@ TEST(Forestmod_Validation, linear_memories_of_marked_tiles_equal_the_full_ones)
         EXPECT_GT(inside, 1000);
         EXPECT_GT(outside, 1000);
     }
+}
+
+// The kernels' AVX2 build (when the CPU has it) against the baseline one: the same scores.
+TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
+{
+    RNG rng(11);
+    const LevelMaps level = randomLevel(rng, Size(320, 240));
+    LinearMemories lm;
+    lm.build(level);
+    const bool was_optimized = useOptimized();
+    for (int f : { 20, 63, 150 })
+    {
+        const TemplatePyramid tp = randomTemplate(rng, 40, 32, f);
+        std::vector<ushort> scores[2];
+        std::vector<uchar> acc8;
+        int local[2][256];
+        bool local_ok[2];
+        for (int pass = 0; pass < 2; ++pass)
+        {
+            setUseOptimized(pass == 0);
+            if (pass == 1)
+            {
+                EXPECT_STREQ("baseline", scoreKernelsPath());
+            }
+            int span_x = 0, span_y = 0;
+            ASSERT_TRUE(scoreEverywhere(lm, tp, 0, 2, span_x, span_y, scores[pass], acc8));
+            local_ok[pass] = scoreLocal(lm, tp, 0, 2, 8, 16, local[pass]);
+        }
+        setUseOptimized(was_optimized);
+        ASSERT_EQ(scores[0].size(), scores[1].size());
+        for (size_t k = 0; k < scores[0].size(); ++k)
+            ASSERT_EQ(scores[0][k], scores[1][k]) << "f " << f << " position " << k;
+        ASSERT_TRUE(local_ok[0] && local_ok[1]);
+        for (int k = 0; k < 256; ++k)
+            ASSERT_EQ(local[0][k], local[1][k]) << "f " << f << " local " << k;
+    }
+    std::cout << "score kernels: " << scoreKernelsPath() << std::endl;
 }
 
 }} // namespace

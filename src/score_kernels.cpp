@@ -1,0 +1,71 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Baseline build of the linearized memories' kernels and the choice of the instruction set.
+
+#include "precomp.hpp"
+#include "score_kernels.hpp"
+#define FORESTMOD_KERNELS_NAMESPACE cpu_baseline
+#include "score_kernels.simd.hpp"
+
+#ifdef FORESTMOD_HAVE_AVX2
+namespace cv {
+namespace forestmod {
+namespace detail {
+namespace opt_AVX2 {
+void addRun8(uchar* dst, const uchar* src, int n);
+void widenAdd(ushort* dst, const uchar* src, int n);
+void addBlock16(ushort* acc, const uchar* src, size_t stride);
+} // namespace opt_AVX2
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+#endif
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+static inline bool useAVX2()
+{
+#ifdef FORESTMOD_HAVE_AVX2
+    return checkHardwareSupport(CV_CPU_AVX2);
+#else
+    return false;
+#endif
+}
+
+#ifdef FORESTMOD_HAVE_AVX2
+#define FORESTMOD_DISPATCH(call)                                                                  \
+    if (useAVX2())                                                                                \
+        opt_AVX2::call;                                                                           \
+    else                                                                                          \
+        cpu_baseline::call
+#else
+#define FORESTMOD_DISPATCH(call) cpu_baseline::call
+#endif
+
+void addRun8(uchar* dst, const uchar* src, int n)
+{
+    FORESTMOD_DISPATCH(addRun8(dst, src, n));
+}
+
+void widenAdd(ushort* dst, const uchar* src, int n)
+{
+    FORESTMOD_DISPATCH(widenAdd(dst, src, n));
+}
+
+void addBlock16(ushort* acc, const uchar* src, size_t stride)
+{
+    FORESTMOD_DISPATCH(addBlock16(acc, src, stride));
+}
+
+const char* scoreKernelsPath()
+{
+    return useAVX2() ? "AVX2" : "baseline";
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv

@@ -1,0 +1,32 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+#ifndef OPENCV_FORESTMOD_SCORE_KERNELS_HPP
+#define OPENCV_FORESTMOD_SCORE_KERNELS_HPP
+
+// The additions of LINEMOD's linearized memories (validator.cpp): OpenCV universal intrinsics,
+// compiled for the baseline and, on x86-64, once more for AVX2 (src/avx2/); the AVX2 code runs
+// when cv::checkHardwareSupport(CV_CPU_AVX2) (false after cv::setUseOptimized(false)). Integer
+// additions: every path gives the same bits.
+
+#include "opencv2/core.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+/** dst[0 .. n) += src[0 .. n), 8-bit with wrap-around (the caller keeps the sums under 256). */
+void addRun8(uchar* dst, const uchar* src, int n);
+/** dst[0 .. n) += src[0 .. n), widened to 16 bits. */
+void widenAdd(ushort* dst, const uchar* src, int n);
+/** acc[r * 16 + c] += src[r * stride + c] for the 16 x 16 block at src. */
+void addBlock16(ushort* acc, const uchar* src, size_t stride);
+/** The instruction set the kernels run with on this machine now ("AVX2" or "baseline"). */
+CV_EXPORTS const char* scoreKernelsPath();
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif

@@ -1,0 +1,73 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The kernels of score_kernels.hpp, compiled once per instruction set (OpenCV's .simd.hpp
+// scheme): in namespace cpu_baseline by score_kernels.cpp, in opt_AVX2 by
+// avx2/score_kernels.avx2.cpp (-mavx2, CV_CPU_DISPATCH_MODE=AVX2 and CV_AVX2=1: OpenCV's
+// installed headers do not derive them from the compiler outside OpenCV's own build). The
+// including file defines FORESTMOD_KERNELS_NAMESPACE. Raw pointers only: this header must not
+// pull inline code of other headers into the AVX2 translation unit.
+
+#include "opencv2/core/hal/intrin.hpp"
+
+#ifndef FORESTMOD_KERNELS_NAMESPACE
+#error "define FORESTMOD_KERNELS_NAMESPACE (cpu_baseline or opt_AVX2) before including this file"
+#endif
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+namespace FORESTMOD_KERNELS_NAMESPACE {
+
+void addRun8(uchar* dst, const uchar* src, int n);
+void widenAdd(ushort* dst, const uchar* src, int n);
+void addBlock16(ushort* acc, const uchar* src, size_t stride);
+
+void addRun8(uchar* dst, const uchar* src, int n)
+{
+    int k = 0;
+#if CV_SIMD
+    const int w = v_uint8::nlanes;
+    for (; k <= n - w; k += w)
+        v_store(dst + k, v_add_wrap(vx_load(dst + k), vx_load(src + k)));
+#endif
+    for (; k < n; ++k)
+        dst[k] = (uchar)(dst[k] + src[k]);
+}
+
+void widenAdd(ushort* dst, const uchar* src, int n)
+{
+    int k = 0;
+#if CV_SIMD
+    const int w = v_uint8::nlanes;
+    for (; k <= n - w; k += w)
+    {
+        v_uint16 lo, hi;
+        v_expand(vx_load(src + k), lo, hi);
+        v_store(dst + k, vx_load(dst + k) + lo);
+        v_store(dst + k + w / 2, vx_load(dst + k + w / 2) + hi);
+    }
+#endif
+    for (; k < n; ++k)
+        dst[k] = (ushort)(dst[k] + src[k]);
+}
+
+void addBlock16(ushort* acc, const uchar* src, size_t stride)
+{
+    for (int r = 0; r < 16; ++r, src += stride, acc += 16)
+    {
+        int c = 0;
+#if CV_SIMD
+        for (; c <= 16 - v_uint16::nlanes; c += v_uint16::nlanes)
+            v_store(acc + c, vx_load(acc + c) + vx_load_expand(src + c));
+#endif
+        for (; c < 16; ++c)
+            acc[c] = (ushort)(acc[c] + src[c]);
+    }
+}
+
+} // namespace FORESTMOD_KERNELS_NAMESPACE
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
