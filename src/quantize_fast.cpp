@@ -96,6 +96,14 @@ Mat rowsAsImage(const Mat& src, int a, int b)
     return Mat(b - a, src.cols, src.type(), const_cast<uchar*>(src.ptr(a)), src.step);
 }
 
+// The same for a rectangle: pixels beyond it are never read, its edges replicated.
+Mat rectAsImage(const Mat& src, const Rect& r)
+{
+    if (src.isSubmatrix())
+        return src(r);
+    return Mat(r.height, r.width, src.type(), const_cast<uchar*>(src.ptr(r.y, r.x)), src.step);
+}
+
 // ------------------------------------------------------------------------------------------
 // ColorGradient
 
@@ -228,8 +236,8 @@ void sobelStrongestPlanar(const uchar* const* up, const uchar* const* mid,
     }
 }
 
-// One-hot orientation (1 << (round(angle * 16/360) & 7)) of a row of angles in degrees; the
-// first and last columns get bin 0 as LINEMOD's border.
+// One-hot orientation (1 << (round(angle * 16/360) & 7)) of a row of angles in degrees (the
+// caller gives the image's first and last columns bin 0, LINEMOD's border).
 void orientationRow(const float* angle, int cols, uchar* onehot)
 {
     const float scale = (float)(16.0 / 360.0); // what convertTo(CV_8U, 16.0 / 360.0) uses
@@ -252,8 +260,6 @@ void orientationRow(const float* angle, int cols, uchar* onehot)
 #endif
     for (; c < cols; ++c)
         onehot[c] = (uchar)(1 << (saturate_cast<uchar>(angle[c] * scale) & 7));
-    onehot[0] = 1;
-    onehot[cols - 1] = 1;
 }
 
 // 1 << bin where at least 5 of the 3x3 one-hot labels around a pixel share the bin, else 0:
@@ -281,15 +287,14 @@ template <typename V> static inline V majority9(const V& a0, const V& a1, const 
     return bit3 | (bit2 & (bit1 | bit0));
 }
 
+// The vote of n pixels (one-hot rows readable at [-1] and [n]).
 void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar* strong,
-                 const uchar* mask, int cols, uchar* dst)
+                 const uchar* mask, int n, uchar* dst)
 {
-    dst[0] = 0;
-    dst[cols - 1] = 0;
-    int c = 1;
+    int c = 0;
 #if CV_SIMD128
     const v_uint8x16 z = v_setzero_u8();
-    for (; c <= cols - 17; c += 16)
+    for (; c <= n - 16; c += 16)
     {
         v_uint8x16 v = majority9(v_load(up + c - 1), v_load(up + c), v_load(up + c + 1),
                                  v_load(mid + c - 1), v_load(mid + c), v_load(mid + c + 1),
@@ -300,7 +305,7 @@ void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar
         v_store(dst + c, v);
     }
 #endif
-    for (; c < cols - 1; ++c)
+    for (; c < n; ++c)
     {
         uchar v = majority9<uchar>(up[c - 1], up[c], up[c + 1], mid[c - 1], mid[c], mid[c + 1],
                                    dn[c - 1], dn[c], dn[c + 1]);
@@ -325,37 +330,49 @@ Mat scratch(int slot, int rows, int cols, int type)
     return Mat(rows, cols, type, alignPtr(&buf[0], 64));
 }
 
-// Output rows [a, b) of one level, in blocks of `block` rows: blur of the stripe, then per block
-// Sobel, strongest channel, phase, one-hot bins and the 3x3 vote.
-void gradientStripe(const Mat& src, const Mat& mask, int ithr, int block, int a, int b, Mat& dst)
+// Output pixels `out` of one level, in blocks of `block` rows: blur around the rectangle, then per
+// block Sobel, strongest channel, phase, one-hot bins and the 3x3 vote. Equal there to the
+// whole image's computation: the blur reads 3 real pixels beyond what the Sobel reads (or
+// replicates the image's own edge), the Sobel and the vote 1. cv::phase must see at least 32
+// values per call (see quantizeGradientLevel): whole-image stripes and tiles do.
+void gradientRect(const Mat& src, const Mat& mask, int ithr, int block, Rect out, Mat& dst)
 {
     const int rows = src.rows, cols = src.cols;
+    const int a = out.y, b = out.y + out.height;
+    // columns: Sobel and one-hot bins [kx0, kx1), smoothed [bx0, bx1), blurred from [gx0, gx1)
+    const int kx0 = std::max(out.x - 1, 0), kx1 = std::min(out.x + out.width + 1, cols);
+    const int bx0 = std::max(kx0 - 1, 0), bx1 = std::min(kx1 + 1, cols);
+    const int gx0 = std::max(bx0 - 3, 0), gx1 = std::min(bx1 + 3, cols);
+    const int kw = kx1 - kx0, bw = bx1 - bx0;
     // rows smoothed for the Sobel of rows [a - 1, b + 1), rows blurred from
     const int sa = std::max(a - 2, 0), sb = std::min(b + 2, rows);
     const int ga = std::max(sa - 3, 0), gb = std::min(sb + 3, rows);
-    Mat blurred = scratch(0, gb - ga, cols, CV_8UC3);
+    Mat blurred = scratch(0, gb - ga, gx1 - gx0, CV_8UC3);
     const uchar* blurred_data = blurred.data;
-    GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(7, 7), 0, 0, BORDER_REPLICATE);
+    GaussianBlur(rectAsImage(src, Rect(gx0, ga, gx1 - gx0, gb - ga)), blurred, Size(7, 7), 0, 0,
+                 BORDER_REPLICATE);
     CV_Assert(blurred.data == blurred_data); // written in place, not reallocated
-    // the three channels as planes, one replicated pixel on both sides
-    Mat planes = scratch(7, 3 * (sb - sa), cols + 2, CV_8U);
+    // the three channels as planes of columns [bx0, bx1), the image's edge pixel replicated
+    Mat planes = scratch(7, 3 * (sb - sa), bw + 2, CV_8U);
     for (int r = sa; r < sb; ++r)
     {
         uchar* p[3];
         for (int ch = 0; ch < 3; ++ch)
             p[ch] = planes.ptr<uchar>(3 * (r - sa) + ch) + 1;
-        splitRow3(blurred.ptr<uchar>(r - ga), cols, p[0], p[1], p[2]);
+        splitRow3(blurred.ptr<uchar>(r - ga) + 3 * (bx0 - gx0), bw, p[0], p[1], p[2]);
         for (int ch = 0; ch < 3; ++ch)
         {
             p[ch][-1] = p[ch][0];
-            p[ch][cols] = p[ch][cols - 1];
+            p[ch][bw] = p[ch][bw - 1];
         }
     }
 
     const int nmax = std::min(block, b - a) + 2;
-    Mat fx = scratch(1, nmax, cols, CV_32F), fy = scratch(2, nmax, cols, CV_32F);
-    Mat angle = scratch(3, nmax, cols, CV_32F);
-    Mat strong = scratch(4, nmax, cols, CV_8U), onehot = scratch(5, nmax, cols, CV_8U);
+    Mat fx = scratch(1, nmax, kw, CV_32F), fy = scratch(2, nmax, kw, CV_32F);
+    Mat angle = scratch(3, nmax, kw, CV_32F);
+    Mat strong = scratch(4, nmax, kw, CV_8U), onehot = scratch(5, nmax, kw, CV_8U);
+    // output columns with a vote (the image's first and last columns are 0)
+    const int vx0 = std::max(out.x, 1), vx1 = std::min(out.x + out.width, cols - 1);
     for (int ba = a; ba < b; ba += block)
     {
         const int bb = std::min(ba + block, b);
@@ -369,37 +386,60 @@ void gradientStripe(const Mat& src, const Mat& mask, int ithr, int block, int a,
             const uchar* dn[3];
             for (int ch = 0; ch < 3; ++ch)
             {
-                up[ch] = planes.ptr<uchar>(3 * (std::max(r - 1, 0) - sa) + ch) + 1;
-                mid[ch] = planes.ptr<uchar>(3 * (r - sa) + ch) + 1;
-                dn[ch] = planes.ptr<uchar>(3 * (std::min(r + 1, rows - 1) - sa) + ch) + 1;
+                const int off = 1 + kx0 - bx0;
+                up[ch] = planes.ptr<uchar>(3 * (std::max(r - 1, 0) - sa) + ch) + off;
+                mid[ch] = planes.ptr<uchar>(3 * (r - sa) + ch) + off;
+                dn[ch] = planes.ptr<uchar>(3 * (std::min(r + 1, rows - 1) - sa) + ch) + off;
             }
-            sobelStrongestPlanar(up, mid, dn, cols, ithr, fx.ptr<float>(r - la),
+            sobelStrongestPlanar(up, mid, dn, kw, ithr, fx.ptr<float>(r - la),
                                  fy.ptr<float>(r - la), strong.ptr<uchar>(r - la));
         }
-        // cv::phase of one continuous array: on at least 32 values (see gradient level) the
-        // same code runs on every pixel as on the whole image
-        hal::fastAtan32f(fy.ptr<float>(), fx.ptr<float>(), angle.ptr<float>(), nl * cols, true);
+        hal::fastAtan32f(fy.ptr<float>(), fx.ptr<float>(), angle.ptr<float>(), nl * kw, true);
         for (int r = la; r < lb; ++r)
         {
             uchar* oh = onehot.ptr<uchar>(r - la);
             if (r == 0 || r == rows - 1)
-                memset(oh, 1, cols);
-            else
-                orientationRow(angle.ptr<float>(r - la), cols, oh);
+            {
+                memset(oh, 1, kw);
+                continue;
+            }
+            orientationRow(angle.ptr<float>(r - la), kw, oh);
+            if (kx0 == 0)
+                oh[0] = 1;
+            if (kx1 == cols)
+                oh[kw - 1] = 1;
         }
         for (int r = ba; r < bb; ++r)
         {
             uchar* d = dst.ptr<uchar>(r);
             if (r == 0 || r == rows - 1)
             {
-                memset(d, 0, cols);
+                memset(d + out.x, 0, out.width);
                 continue;
             }
-            majorityRow(onehot.ptr<uchar>(r - 1 - la), onehot.ptr<uchar>(r - la),
-                        onehot.ptr<uchar>(r + 1 - la), strong.ptr<uchar>(r - la),
-                        mask.empty() ? 0 : mask.ptr<uchar>(r), cols, d);
+            if (out.x == 0)
+                d[0] = 0;
+            if (out.x + out.width == cols)
+                d[cols - 1] = 0;
+            if (vx1 > vx0)
+                majorityRow(onehot.ptr<uchar>(r - 1 - la) + vx0 - kx0,
+                            onehot.ptr<uchar>(r - la) + vx0 - kx0,
+                            onehot.ptr<uchar>(r + 1 - la) + vx0 - kx0,
+                            strong.ptr<uchar>(r - la) + vx0 - kx0,
+                            mask.empty() ? 0 : mask.ptr<uchar>(r) + vx0, vx1 - vx0, d + vx0);
         }
     }
+}
+
+// LINEMOD's threshold on the float magnitude (exact: below 2^24) as an integer.
+static int gradientThreshold(float weak_threshold)
+{
+    const float thr = weak_threshold * weak_threshold;
+    if (!(thr >= 0.f))
+        return -1;
+    if ((double)thr >= (double)INT_MAX)
+        return INT_MAX;
+    return (int)std::floor((double)thr);
 }
 
 void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold, Mat& dst)
@@ -412,15 +452,7 @@ void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold
         dst.setTo(Scalar::all(0));
         return;
     }
-    // LINEMOD: float magnitude (exact: below 2^24) > float threshold^2
-    const float thr = weak_threshold * weak_threshold;
-    int ithr;
-    if (!(thr >= 0.f))
-        ithr = -1;
-    else if ((double)thr >= (double)INT_MAX)
-        ithr = INT_MAX;
-    else
-        ithr = (int)std::floor((double)thr);
+    const int ithr = gradientThreshold(weak_threshold);
     // cv::phase runs its scalar code on arrays shorter than 2 SIMD vectors (16 values with
     // AVX2, 32 with AVX-512) and SIMD code otherwise: blocks of whole rows of at least 32 pixels
     // keep every pixel on the path it takes in the whole image
@@ -431,7 +463,8 @@ void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold
     const int nstripes = cols >= 32
         ? std::max(stripesFor(rows, cols, 32), (rows + cache_rows - 1) / cache_rows) : 1;
     parallel_for_(Range(0, rows), [&](const Range& range) {
-        gradientStripe(src, mask, ithr, block, range.start, range.end, dst);
+        gradientRect(src, mask, ithr, block, Rect(0, range.start, cols, range.end - range.start),
+                     dst);
     }, nstripes);
 }
 
@@ -477,6 +510,42 @@ void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, u
     }
 }
 
+// Output pixels `out` of one level in blocks of 32 rows: blur (k x k, 0: none) around the
+// rectangle, HSV, bins. Equal there to the whole image's computation (the blur reads k / 2 real
+// pixels beyond the rectangle or replicates the image's own edge; the rest is per pixel).
+static void hueRect(const Mat& src, const Mat& mask, int smin, int vmin, int k, Rect out, Mat& dst)
+{
+    const int rows = src.rows, cols = src.cols, block = 32;
+    const int gx0 = std::max(out.x - k / 2, 0);
+    const int gx1 = std::min(out.x + out.width + k / 2, cols);
+    for (int a = out.y; a < out.y + out.height; a += block)
+    {
+        const int b = std::min(a + block, out.y + out.height);
+        Mat smoothed;
+        if (k > 0)
+        {
+            const int ga = std::max(a - k / 2, 0), gb = std::min(b + k / 2, rows);
+            Mat blurred = scratch(0, gb - ga, gx1 - gx0, CV_8UC3);
+            const uchar* data = blurred.data;
+            GaussianBlur(rectAsImage(src, Rect(gx0, ga, gx1 - gx0, gb - ga)), blurred, Size(k, k),
+                         0, 0, BORDER_REPLICATE);
+            CV_Assert(blurred.data == data);
+            smoothed = blurred(Rect(out.x - gx0, a - ga, out.width, b - a));
+        }
+        else
+        {
+            smoothed = src(Rect(out.x, a, out.width, b - a));
+        }
+        Mat hsv = scratch(1, b - a, out.width, CV_8UC3);
+        const uchar* data = hsv.data;
+        cvtColor(smoothed, hsv, COLOR_BGR2HSV);
+        CV_Assert(hsv.data == data);
+        for (int r = a; r < b; ++r)
+            hueRow(hsv.ptr<uchar>(r - a), mask.empty() ? 0 : mask.ptr<uchar>(r) + out.x,
+                   out.width, smin, vmin, dst.ptr<uchar>(r) + out.x);
+    }
+}
+
 void quantizeHueLevel(const Mat& src, const Mat& mask, const ModalityInfo& info, Mat& dst)
 {
     CV_Assert(src.type() == CV_8UC3);
@@ -490,36 +559,10 @@ void quantizeHueLevel(const Mat& src, const Mat& mask, const ModalityInfo& info,
         return;
     }
     const int k = info.blur_size > 1 ? info.blur_size : 0;
-    const int block = 32;
-    const int nstripes = stripesFor(rows, cols, 32);
     parallel_for_(Range(0, rows), [&](const Range& range) {
-        for (int a = range.start; a < range.end; a += block)
-        {
-            const int b = std::min(a + block, range.end);
-            Mat smoothed;
-            if (k > 0)
-            {
-                const int ga = std::max(a - k / 2, 0), gb = std::min(b + k / 2, rows);
-                Mat blurred = scratch(0, gb - ga, cols, CV_8UC3);
-                const uchar* data = blurred.data;
-                GaussianBlur(rowsAsImage(src, ga, gb), blurred, Size(k, k), 0, 0,
-                             BORDER_REPLICATE);
-                CV_Assert(blurred.data == data);
-                smoothed = blurred.rowRange(a - ga, b - ga);
-            }
-            else
-            {
-                smoothed = src.rowRange(a, b);
-            }
-            Mat hsv = scratch(1, b - a, cols, CV_8UC3);
-            const uchar* data = hsv.data;
-            cvtColor(smoothed, hsv, COLOR_BGR2HSV);
-            CV_Assert(hsv.data == data);
-            for (int r = a; r < b; ++r)
-                hueRow(hsv.ptr<uchar>(r - a), mask.empty() ? 0 : mask.ptr<uchar>(r), cols, smin,
-                       vmin, dst.ptr<uchar>(r));
-        }
-    }, nstripes);
+        hueRect(src, mask, smin, vmin, k, Rect(0, range.start, cols, range.end - range.start),
+                dst);
+    }, stripesFor(rows, cols, 32));
 }
 
 // ------------------------------------------------------------------------------------------
@@ -1080,6 +1123,52 @@ bool depthNormalLevels(const ModalityInfo& info, const Mat& depth, const Mat& ma
 }
 
 } // namespace
+
+bool hasRectPath(const ModalityInfo& info)
+{
+    return info.kind == MODALITY_COLOR_GRADIENT || info.kind == MODALITY_COLOR_HUE;
+}
+
+void quantizeLevelRect(const ModalityInfo& info, const Mat& src, const Mat& mask, Rect r, Mat& dst)
+{
+    CV_Assert(hasRectPath(info));
+    checkInputs(info, src, mask);
+    CV_Assert(dst.type() == CV_8UC1 && dst.size() == src.size());
+    r &= Rect(0, 0, src.cols, src.rows);
+    if (r.empty())
+        return;
+    if (info.kind == MODALITY_COLOR_HUE)
+    {
+        const int smin = std::max(0, info.saturation_threshold);
+        const int vmin = std::max(0, info.value_threshold);
+        if (smin > 255 || vmin > 255) // no pixel passes
+            dst(r).setTo(Scalar::all(0));
+        else
+            hueRect(src, mask, smin, vmin, info.blur_size > 1 ? info.blur_size : 0, r, dst);
+        return;
+    }
+    const int ithr = gradientThreshold(info.weak_threshold);
+    if (src.rows < 3 || src.cols < 3)
+    {
+        dst(r).setTo(Scalar::all(0));
+        return;
+    }
+    // one block: cv::phase sees (rows + 2) x (columns + 2) values, clipped at the image's edges;
+    // at least 32 when the rectangle holds 32 pixels (see quantizeGradientLevel)
+    if (r.area() >= 32 || (r.height == src.rows && r.width == src.cols))
+    {
+        gradientRect(src, mask, ithr, r.height, r, dst);
+        return;
+    }
+    // a sliver: its full-width rows (or the whole image) in a buffer of this thread, then copied
+    static thread_local Mat wide;
+    wide.create(src.size(), CV_8U);
+    Rect w(0, r.y, src.cols, r.height);
+    if (w.area() < 32)
+        w = Rect(0, 0, src.cols, src.rows);
+    gradientRect(src, mask, ithr, w.height, w, wide);
+    wide(r).copyTo(dst(r));
+}
 
 bool hasFastPath(const ModalityInfo& info)
 {

@@ -52,6 +52,16 @@ CV_EXPORTS ModalityInfo classifyModality(const Ptr<cv::linemod::Modality>& modal
 /** True when fastQuantize() computes this kind itself. */
 CV_EXPORTS bool hasFastPath(const ModalityInfo& info);
 
+/** True when quantizeLevelRect() handles this kind (ColorGradient, ColorHue). */
+CV_EXPORTS bool hasRectPath(const ModalityInfo& info);
+
+/** The pixels `r` of one level's quantized image, written in place into `dst` (CV_8UC1 of the
+image's size, allocated by the caller): equal there to what fastQuantize() gives for the whole
+level from the same level image `src` (the pyramid's image of that level) and mask. The other
+pixels are left as they are, so disjoint rectangles may be computed in parallel. */
+CV_EXPORTS void quantizeLevelRect(const ModalityInfo& info, const Mat& src, const Mat& mask,
+                                  Rect r, Mat& dst);
+
 /** Quantized images of levels 0 .. levels-1 of one modality, equal to
 `p = modality->process(src, mask); p->quantize(q0); p->pyrDown(); p->quantize(q1); ...`.
 Returns false (and leaves `quantized` untouched) when the modality has no fast path; the caller

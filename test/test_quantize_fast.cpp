@@ -285,6 +285,79 @@ TEST(Forestmod_QuantizeFast, all_modalities_shared_pyramids)
     }
 }
 
+// quantizeLevelRect on a grid of tiles (the scene pyramid's 64 x 32 and odd ones), random
+// rectangles and slivers at the edges: equal there to the whole level, nothing else written.
+static void expectRectsEqualLevel(const Ptr<linemod::Modality>& m, const Mat& img, const Mat& mask,
+                                  const std::string& what, RNG& rng)
+{
+    using namespace cv::forestmod::detail;
+    const ModalityInfo info = classifyModality(m);
+    ASSERT_TRUE(hasRectPath(info)) << m->name();
+    std::vector<Mat> whole;
+    ASSERT_TRUE(fastQuantize(info, img, mask, 1, whole));
+    const Mat& ref = whole[0];
+    const Size size = img.size();
+    for (const Size& tile : { Size(64, 32), Size(37, 11) })
+    {
+        Mat part(size, CV_8U, Scalar::all(77)); // 77: never a label set (one bit or 0)
+        for (int y = 0; y < size.height; y += tile.height)
+            for (int x = 0; x < size.width; x += tile.width)
+                quantizeLevelRect(info, img, mask, Rect(Point(x, y), tile), part);
+        ASSERT_EQ(0, cvtest::norm(ref, part, NORM_INF)) << what << " " << m->name() << " tiles "
+                                                       << tile;
+    }
+    std::vector<Rect> rects;
+    for (int k = 0; k < 12; ++k)
+    {
+        const int x = rng.uniform(0, size.width), y = rng.uniform(0, size.height);
+        rects.push_back(Rect(x, y, rng.uniform(1, size.width - x + 1),
+                             rng.uniform(1, size.height - y + 1)));
+    }
+    rects.push_back(Rect(size.width - 3, size.height - 1, 3, 1)); // a sliver in the corner
+    rects.push_back(Rect(0, 0, 1, 2));
+    for (const Rect& r : rects)
+    {
+        Mat part(size, CV_8U, Scalar::all(77));
+        quantizeLevelRect(info, img, mask, r, part);
+        ASSERT_EQ(0, cvtest::norm(ref(r), part(r), NORM_INF)) << what << " " << m->name() << " "
+                                                              << r;
+        Mat outside = part.clone();
+        outside(r).setTo(Scalar::all(77));
+        ASSERT_EQ(size.area(), countNonZero(outside == 77)) << what << " " << r;
+    }
+}
+
+TEST(Forestmod_QuantizeFast, rectangles_equal_the_whole_level)
+{
+    using cv::forestmod::detail::fastQuantize;
+    RNG rng(31);
+    const std::vector<Ptr<linemod::Modality> > ms = colourModalities();
+    std::vector<std::pair<Mat, std::string> > images;
+    const std::vector<std::string> files = shippedFrames();
+    ASSERT_FALSE(files.empty());
+    const Mat frame = imread(files[0], IMREAD_COLOR);
+    ASSERT_FALSE(frame.empty()) << files[0];
+    images.push_back(std::make_pair(frame, files[0]));
+    const Size sizes[] = { Size(161, 97), Size(333, 211), Size(40, 23), Size(17, 9) };
+    for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); ++s)
+        images.push_back(std::make_pair(randomScene(sizes[s], 300 + s), "random"));
+    for (size_t k = 0; k < images.size(); ++k)
+    {
+        const Mat& img = images[k].first;
+        int labelled = 0;
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            expectRectsEqualLevel(ms[i], img, Mat(), images[k].second, rng);
+            expectRectsEqualLevel(ms[i], img, someMask(img.size(), 9), images[k].second
+                                  + " masked", rng);
+            std::vector<Mat> q;
+            ASSERT_TRUE(fastQuantize(ms[i], img, Mat(), 1, q));
+            labelled += countNonZero(q[0]);
+        }
+        EXPECT_GT(labelled, img.size().area() / 20) << images[k].second; // not all empty
+    }
+}
+
 static std::vector<Ptr<linemod::Modality> > depthModalities()
 {
     std::vector<Ptr<linemod::Modality> > ms;
