@@ -1208,7 +1208,8 @@ bool fastQuantize(const Ptr<Modality>& modality, const Mat& src, const Mat& mask
 void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
                        const std::vector<ModalityInfo>& infos_in, const std::vector<Mat>& sources,
                        const std::vector<Mat>& masks, int levels,
-                       std::vector<std::vector<Mat> >& quantized)
+                       std::vector<std::vector<Mat> >& quantized,
+                       std::vector<std::vector<LevelSource> >* deferred)
 {
     const int M = (int)modalities.size();
     CV_Assert(levels >= 1 && (int)sources.size() == M);
@@ -1225,6 +1226,8 @@ void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
     quantized.resize(levels);
     for (int l = 0; l < levels; ++l)
         quantized[l].resize(M);
+    if (deferred)
+        deferred->assign(levels, std::vector<LevelSource>(M));
 
     // pyramids of the images and masks, shared by the modalities given the same data
     std::vector<int> img_of(M, -1), mask_of(M, -1);
@@ -1282,9 +1285,23 @@ void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
                 msks[j].push_back(nextMask(msks[j][l - 1], pyramidBuffer(1, j, l)));
         }
         for (int i = 0; i < M; ++i)
-            if (img_of[i] >= 0)
-                quantizeLevel(infos[i], imgs[img_of[i]][l], msks[mask_of[i]][l],
-                              quantized[l][i]);
+        {
+            if (img_of[i] < 0)
+                continue;
+            const Mat& img = imgs[img_of[i]][l];
+            if (deferred && l < levels - 1 && hasRectPath(infos[i]))
+            {
+                // levels above 0 live in this thread's pyramid buffers, which the next call
+                // overwrites: the caller gets its own copy (a quarter of the frame or less)
+                LevelSource& d = (*deferred)[l][i];
+                d.image = l > 0 ? img.clone() : img;
+                d.mask = l > 0 ? msks[mask_of[i]][l].clone() : msks[mask_of[i]][l];
+                d.info = infos[i];
+                quantized[l][i].create(img.size(), CV_8U);
+                continue;
+            }
+            quantizeLevel(infos[i], img, msks[mask_of[i]][l], quantized[l][i]);
+        }
     }
 }
 

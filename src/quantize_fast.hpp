@@ -72,17 +72,31 @@ CV_EXPORTS bool fastQuantize(const ModalityInfo& info, const Mat& src, const Mat
 CV_EXPORTS bool fastQuantize(const Ptr<cv::linemod::Modality>& modality, const Mat& src, const Mat& mask,
                   int levels, std::vector<Mat>& quantized);
 
+/** What quantizeLevelRect() needs for one level of one modality, kept for later. */
+struct LevelSource
+{
+    Mat image;          //!< the pyramid's image of the level (empty: quantized already)
+    Mat mask;           //!< the pyramid's mask of the level (may be empty)
+    ModalityInfo info;
+};
+
 /** Every modality at every level: quantized[l][i] for level l, modality i. Modalities with a
 fast path share the pyramids (pyrDown of the source, INTER_NEAREST of the mask) when they are
 given the same source or mask (same data); the others go through their virtual calls.
 `infos` may be empty (then classified here); masks may be empty or hold empty Mats.
 The Mats already in `quantized` are written in place when their size and type fit (as OpenCV's
 outputs; no page faults for a new frame of the same size): pass a fresh vector to keep the
-previous frame's images. The pyramids themselves live in buffers of the calling thread. */
+previous frame's images. The pyramids themselves live in buffers of the calling thread.
+With `deferred`, the levels below the coarsest of the modalities with a rectangle path
+(hasRectPath()) are not quantized: quantized[l][i] is allocated (CV_8UC1) but not computed, and
+(*deferred)[l][i] holds its image and mask for quantizeLevelRect(); (*deferred)[l][i].image is
+empty where the level was quantized. */
 CV_EXPORTS void quantizeAllLevels(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
                        const std::vector<ModalityInfo>& infos, const std::vector<Mat>& sources,
                        const std::vector<Mat>& masks, int levels,
-                       std::vector<std::vector<Mat> >& quantized);
+                       std::vector<std::vector<Mat> >& quantized,
+                       std::vector<std::vector<LevelSource> >* deferred = 0);
+
 
 /** Vectorised, parallel detail::spreadLabels(): same signature, same output. */
 CV_EXPORTS void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad);

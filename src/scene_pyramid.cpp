@@ -26,7 +26,12 @@ void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
     for (int i = 0; i < M; ++i)
         infos[i] = roles.currentInfo(modalities, i);
     std::vector<std::vector<Mat> > quantized; // [level][modality]
-    quantizeAllLevels(modalities, infos, sources, masks, levels_n, quantized);
+    // the finer levels of the colour modalities are quantized in tiles (prepareRefinementLevels)
+    // unless the caller wants the whole images
+    quantizeAllLevels(modalities, infos, sources, masks, levels_n, quantized,
+                      quantized_images.needed() ? 0 : &scene.deferred);
+    if (quantized_images.needed())
+        scene.deferred.assign(levels_n, std::vector<LevelSource>(M));
     scene.levels.assign(levels_n, LevelMaps());
     scene.tiles.assign(L, Mat());
     if (quantized_images.needed())
@@ -67,15 +72,36 @@ void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
     }
 }
 
+// Marks `bit` in the tiles of `grid` within `reach` tiles right of and below (tx, ty) (itself
+// included) and appends the ones not marked before to `todo` as (tx, ty, l).
+static void markTiles(Mat& grid, int tx, int ty, Point reach, uchar bit, int l,
+                      std::vector<Point3i>& todo)
+{
+    for (int y = ty; y <= std::min(ty + reach.y, grid.rows - 1); ++y)
+    {
+        uchar* g = grid.ptr<uchar>(y);
+        for (int x = tx; x <= std::min(tx + reach.x, grid.cols - 1); ++x)
+            if (!(g[x] & bit))
+            {
+                g[x] |= bit;
+                todo.push_back(Point3i(x, y, l));
+            }
+    }
+}
+
 void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<Rect> >& regions)
 {
     const int TW = ScenePyramid::TILE_W, TH = ScenePyramid::TILE_H;
     const int L = std::min(scene.coarsestIndex(), static_cast<int>(regions.size()));
-    // the tiles to compute (level, tile column, tile row), marked first: no lock below
-    std::vector<Point3i> todo;
+    // the tiles to compute (level, tile column, tile row), marked first: no lock below. A tile's
+    // maps read the quantized images T - 1 pixels further right and down: those tiles are
+    // quantized first
+    std::vector<Point3i> maps_todo, quant_todo;
     for (int l = 0; l < L; ++l)
     {
         Mat& grid = scene.tiles[l];
+        const int T = scene.levels[l].T;
+        const Point reach((T - 1 + TW - 1) / TW, (T - 1 + TH - 1) / TH);
         const Rect bounds(Point(0, 0), scene.levels[l].size);
         for (size_t k = 0; k < regions[l].size(); ++k)
         {
@@ -83,22 +109,35 @@ void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<
             if (r.empty())
                 continue;
             for (int ty = r.y / TH; ty <= (r.y + r.height - 1) / TH; ++ty)
-            {
-                uchar* g = grid.ptr<uchar>(ty);
                 for (int tx = r.x / TW; tx <= (r.x + r.width - 1) / TW; ++tx)
-                    if (!g[tx])
+                    if (!(grid.at<uchar>(ty, tx) & ScenePyramid::TILE_MAPS))
                     {
-                        g[tx] = 1;
-                        todo.push_back(Point3i(tx, ty, l));
+                        markTiles(grid, tx, ty, Point(0, 0), ScenePyramid::TILE_MAPS, l,
+                                  maps_todo);
+                        markTiles(grid, tx, ty, reach, ScenePyramid::TILE_QUANTIZED, l,
+                                  quant_todo);
                     }
-            }
         }
     }
-    parallel_for_(Range(0, static_cast<int>(todo.size())), [&](const Range& range) {
+    parallel_for_(Range(0, static_cast<int>(quant_todo.size())), [&](const Range& range) {
         for (int k = range.start; k < range.end; ++k)
         {
-            LevelMaps& lm = scene.levels[todo[k].z];
-            const Rect tile(todo[k].x * TW, todo[k].y * TH, TW, TH);
+            const int l = quant_todo[k].z;
+            LevelMaps& lm = scene.levels[l];
+            const Rect tile(quant_todo[k].x * TW, quant_todo[k].y * TH, TW, TH);
+            for (size_t i = 0; i < lm.quantized.size(); ++i)
+            {
+                const LevelSource& src = scene.deferred[l][i];
+                if (!src.image.empty())
+                    quantizeLevelRect(src.info, src.image, src.mask, tile, lm.quantized[i]);
+            }
+        }
+    });
+    parallel_for_(Range(0, static_cast<int>(maps_todo.size())), [&](const Range& range) {
+        for (int k = range.start; k < range.end; ++k)
+        {
+            LevelMaps& lm = scene.levels[maps_todo[k].z];
+            const Rect tile(maps_todo[k].x * TW, maps_todo[k].y * TH, TW, TH);
             for (size_t i = 0; i < lm.quantized.size(); ++i)
                 spreadResponseTile(lm.quantized[i], lm.T, tile, lm.spread[i], lm.response[i]);
         }

@@ -5,9 +5,10 @@
 // Internal: everything computed from a frame, once (paper: the scene's quantized images; LINEMOD
 // 2.3-2.4): per pyramid level and modality the quantized, spread and response maps; the forest's
 // label planes of the coarsest level; the depth contexts of the refinement levels. Every later
-// stage reads it in place. The quantized images of every level and the spread and response maps
-// of the coarsest level cover the whole frame; the finer levels' spread and response maps are
-// computed on demand, in tiles, where refinement will read them (prepareRefinementLevels). The
+// stage reads it in place. The coarsest level covers the whole frame; the finer levels' quantized
+// images (of the modalities with a rectangle path: ColorGradient, ColorHue), spread and response
+// maps are computed on demand, in tiles, where refinement will read them
+// (prepareRefinementLevels). The
 // functions marked CV_EXPORTS are exported for the tests only; the header is not installed.
 
 #ifndef OPENCV_FORESTMOD_SCENE_PYRAMID_HPP
@@ -25,12 +26,18 @@ namespace detail {
 
 struct ScenePyramid
 {
-    /** Level 0 (finest) .. coarsest. Below the coarsest level, spread and response maps are
-    allocated at full size but valid only in the tiles marked in `tiles`. */
+    /** Level 0 (finest) .. coarsest. Below the coarsest level, spread and response maps (and the
+    quantized images of the deferred modalities) are allocated at full size but valid only in
+    the tiles marked in `tiles`. */
     std::vector<LevelMaps> levels;
-    /** Per level below the coarsest: CV_8U grid of TILE_W x TILE_H pixel tiles, 1 where the
-    spread and response maps are computed. */
+    /** Per level below the coarsest: CV_8U grid of TILE_W x TILE_H pixel tiles, bit 1 where the
+    spread and response maps are computed, bit 2 where the quantized images are. */
     std::vector<Mat> tiles;
+    enum { TILE_MAPS = 1, TILE_QUANTIZED = 2 };
+    /** [level][modality]: what the quantized images of the levels below the coarsest are
+    computed from, tile by tile (quantizeLevelRect()); an empty image where the whole level was
+    quantized up front (modalities without a rectangle path, or quantized images asked for). */
+    std::vector<std::vector<LevelSource> > deferred;
     enum { TILE_W = 64, TILE_H = 32 };
     /** The forest's view of the coarsest level: per modality the dominant labels of the plain
     quantized image (DetectorParams::dominant_window), with a zero border of `border` pixels on
@@ -49,11 +56,12 @@ struct ScenePyramid
     int coarsestIndex() const { return static_cast<int>(levels.size()) - 1; }
 };
 
-/** The modalities' quantized images of every level, equal to their process, pyrDown, quantize
-(the fast paths of quantize_fast.hpp for the modalities `roles` recognised, the virtual calls for
-the others); the coarsest level spread over T and turned into response maps; the finer levels'
-maps allocated, no tile computed. `quantized_images`, when needed, receives the quantized images
-as cv::linemod::Detector::match returns them. */
+/** The modalities' quantized images, equal to their process, pyrDown, quantize (the fast paths of
+quantize_fast.hpp for the modalities `roles` recognised, the virtual calls for the others): the
+coarsest level's, spread over T and turned into response maps; of the finer levels those of the
+modalities without a rectangle path, the others deferred to the tiles; the finer levels' maps
+allocated, no tile computed. `quantized_images`, when needed, receives the quantized images of
+every level, whole, as cv::linemod::Detector::match returns them (nothing deferred then). */
 CV_EXPORTS void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
                               const ModalityRoles& roles, const std::vector<int>& T_at_level,
                               const std::vector<Mat>& sources, const std::vector<Mat>& masks,
@@ -61,7 +69,8 @@ CV_EXPORTS void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& mo
 
 /** Spread and response maps of the levels below the coarsest in every tile that meets one of
 `regions[l]` (rectangles of level-l pixels, clipped to the level), computed in parallel over the
-tiles not computed yet. Equal there to the full-frame computation. */
+tiles not computed yet, after the deferred quantized images of the tiles they read. Equal there
+to the full-frame computation. */
 CV_EXPORTS void prepareRefinementLevels(ScenePyramid& scene,
                                         const std::vector<std::vector<Rect> >& regions);
 

@@ -722,7 +722,11 @@ static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, 
     const std::vector<Mat> sources(2, frame);
     ScenePyramid on_demand, full;
     quantizeScene(mods, roles, T, sources, std::vector<Mat>(), on_demand, noArray());
-    quantizeScene(mods, roles, T, sources, std::vector<Mat>(), full, noArray());
+    // asking for the quantized images: every level quantized whole, nothing deferred
+    std::vector<Mat> whole;
+    quantizeScene(mods, roles, T, sources, std::vector<Mat>(), full, whole);
+    ASSERT_TRUE(full.deferred[0][0].image.empty());
+    ASSERT_FALSE(on_demand.deferred[0][0].image.empty());
     std::vector<std::vector<Rect> > everything(L);
     for (int l = 0; l < L; ++l)
         everything[l].push_back(Rect(Point(0, 0), full.levels[l].size));
@@ -750,6 +754,21 @@ static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, 
     {
         EXPECT_LT(tiles0, (int)on_demand.tiles[0].total());
     }
+    // the deferred quantized images of the finer levels equal the whole ones in their tiles
+    for (int l = 0; l < L; ++l)
+        for (int ty = 0; ty < on_demand.tiles[l].rows; ++ty)
+            for (int tx = 0; tx < on_demand.tiles[l].cols; ++tx)
+            {
+                if (!(on_demand.tiles[l].at<uchar>(ty, tx) & ScenePyramid::TILE_QUANTIZED))
+                    continue;
+                const Rect tile = Rect(tx * ScenePyramid::TILE_W, ty * ScenePyramid::TILE_H,
+                                       ScenePyramid::TILE_W, ScenePyramid::TILE_H)
+                                  & Rect(Point(0, 0), on_demand.levels[l].size);
+                for (size_t m = 0; m < mods.size(); ++m)
+                    ASSERT_EQ(0, cvtest::norm(full.levels[l].quantized[m](tile),
+                                              on_demand.levels[l].quantized[m](tile), NORM_INF))
+                        << "level " << l << " modality " << m << " tile " << tile;
+            }
 
     TemplateStore store; // no depth samples: refinement does not read it
     for (int pass = 0; pass < 2; ++pass)
