@@ -8,19 +8,14 @@
 #include "score_kernels.hpp"
 #define FORESTMOD_KERNELS_NAMESPACE cpu_baseline
 #include "score_kernels.simd.hpp"
+#undef FORESTMOD_KERNELS_NAMESPACE
 
-#ifdef FORESTMOD_HAVE_AVX2
-namespace cv {
-namespace forestmod {
-namespace detail {
-namespace opt_AVX2 {
-void addRun8(uchar* dst, const uchar* src, int n);
-void widenAdd(ushort* dst, const uchar* src, int n);
-void addBlock16(ushort* acc, const uchar* src, size_t stride);
-} // namespace opt_AVX2
-} // namespace detail
-} // namespace forestmod
-} // namespace cv
+#ifdef FORESTMOD_HAVE_AVX2 // declarations of the AVX2 build (avx2/score_kernels.avx2.cpp)
+#define FORESTMOD_KERNELS_NAMESPACE opt_AVX2
+#define FORESTMOD_KERNELS_DECLARATIONS_ONLY
+#include "score_kernels.simd.hpp"
+#undef FORESTMOD_KERNELS_DECLARATIONS_ONLY
+#undef FORESTMOD_KERNELS_NAMESPACE
 #endif
 
 namespace cv {

@@ -6,7 +6,9 @@
 // scheme): in namespace cpu_baseline by score_kernels.cpp, in opt_AVX2 by
 // avx2/score_kernels.avx2.cpp (-mavx2, CV_CPU_DISPATCH_MODE=AVX2 and CV_AVX2=1: OpenCV's
 // installed headers do not derive them from the compiler outside OpenCV's own build). The
-// including file defines FORESTMOD_KERNELS_NAMESPACE. Raw pointers only: this header must not
+// including file defines FORESTMOD_KERNELS_NAMESPACE, and FORESTMOD_KERNELS_DECLARATIONS_ONLY to
+// declare another build's functions (OpenCV's CV_CPU_OPTIMIZATION_DECLARATIONS_ONLY). Raw
+// pointers only: this header must not
 // pull inline code of other headers into the AVX2 translation unit.
 
 #include "opencv2/core/hal/intrin.hpp"
@@ -23,6 +25,8 @@ namespace FORESTMOD_KERNELS_NAMESPACE {
 void addRun8(uchar* dst, const uchar* src, int n);
 void widenAdd(ushort* dst, const uchar* src, int n);
 void addBlock16(ushort* acc, const uchar* src, size_t stride);
+
+#ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
 void addRun8(uchar* dst, const uchar* src, int n)
 {
@@ -66,6 +70,8 @@ void addBlock16(ushort* acc, const uchar* src, size_t stride)
             acc[c] = (ushort)(acc[c] + src[c]);
     }
 }
+
+#endif // FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
 } // namespace FORESTMOD_KERNELS_NAMESPACE
 } // namespace detail
