@@ -75,6 +75,22 @@ static Scene makeScene(Size size, int kind)
     return s;
 }
 
+// cv::linemod's quantization of every modality of the scene: process, then quantize and pyrDown
+// level by level (forestmod_eval's T_quant of cv::linemod).
+static void linemodQuantize(const Scene& scene, int levels, std::vector<std::vector<Mat> >& q)
+{
+    for (size_t i = 0; i < scene.modalities.size(); ++i)
+    {
+        Ptr<linemod::QuantizedPyramid> qp = scene.modalities[i]->process(scene.sources[i]);
+        for (int l = 0; l < levels; ++l)
+        {
+            if (l > 0)
+                qp->pyrDown();
+            qp->quantize(q[l][i]);
+        }
+    }
+}
+
 typedef tuple<Size, SceneKind, int, QuantImpl> SceneParams;
 typedef TestBaseWithParam<SceneParams> Forestmod_ScenePyramid;
 
@@ -96,23 +112,10 @@ PERF_TEST_P(Forestmod_ScenePyramid, quantize,
     TEST_CYCLE()
     {
         if (impl == IMPL_LINEMOD)
-        {
-            for (int i = 0; i < M; ++i)
-            {
-                Ptr<linemod::QuantizedPyramid> qp = scene.modalities[i]->process(scene.sources[i]);
-                for (int l = 0; l < levels; ++l)
-                {
-                    if (l > 0)
-                        qp->pyrDown();
-                    qp->quantize(q[l][i]);
-                }
-            }
-        }
+            linemodQuantize(scene, levels, q);
         else
-        {
             quantizeAllLevels(scene.modalities, infos, scene.sources, std::vector<Mat>(), levels,
                               q);
-        }
     }
     setNumThreads(old_threads);
     for (int i = 0; i < M; ++i)
@@ -205,18 +208,7 @@ PERF_TEST_P(Forestmod_ScenePyramid, scene,
     TEST_CYCLE()
     {
         if (impl == IMPL_LINEMOD)
-        {
-            for (int i = 0; i < M; ++i)
-            {
-                Ptr<linemod::QuantizedPyramid> qp = s.modalities[i]->process(s.sources[i]);
-                for (int l = 0; l < levels; ++l)
-                {
-                    if (l > 0)
-                        qp->pyrDown();
-                    qp->quantize(q[l][i]);
-                }
-            }
-        }
+            linemodQuantize(s, levels, q);
         else
         {
             quantizeScene(s.modalities, roles, T, s.sources, std::vector<Mat>(), scene,
