@@ -8,6 +8,7 @@
 
 #include "precomp.hpp"
 #include "params_io.hpp"
+#include "edge_gradient.hpp"
 #include "opencv2/calib3d.hpp"
 
 namespace cv {
@@ -71,18 +72,9 @@ static void checkEdgeParams(const EdgeRefineParams& p, const char* func)
                                          "positive", func));
 }
 
-// orientation bin (gradient direction modulo 180 degrees) of a gradient
-static inline int orientationBin(float dx, float dy, int bins)
-{
-    float a = std::atan2(dy, dx); // (-pi, pi]
-    if (a < 0)
-        a += (float)CV_PI;
-    int b = (int)(a * bins / (float)CV_PI);
-    return b >= bins ? b - bins : b;
-}
+namespace detail {
 
-// per pixel: the gradient of the channel with the largest magnitude (LINEMOD's colour gradient)
-static void strongestGradient(const Mat& img, Mat& dx, Mat& dy)
+void strongestGradient(const Mat& img, Mat& dx, Mat& dy)
 {
     Mat sx, sy;
     Sobel(img, sx, CV_32F, 1, 0, 3);
@@ -114,6 +106,11 @@ static void strongestGradient(const Mat& img, Mat& dx, Mat& dy)
         }
     }
 }
+
+} // namespace detail
+
+using detail::orientationBin;
+using detail::strongestGradient;
 
 void computeEdgeMaps(InputArray _image, EdgeMaps& maps, const EdgeRefineParams& params,
                      const Rect& _roi)

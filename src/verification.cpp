@@ -10,6 +10,7 @@
 #include "precomp.hpp"
 #include "params_io.hpp"
 #include "verification.hpp"
+#include "edge_gradient.hpp"
 
 #include <map>
 
@@ -264,50 +265,24 @@ static void rasterize(const Mesh& mesh, const Matx33d& K, const Matx33d& R, cons
     r.color = col;
 }
 
-// orientation bin of a gradient over 180 degrees (computeEdgeMaps' convention)
-static inline int orientationBin(float dx, float dy, int bins)
-{
-    float a = std::atan2(dy, dx);
-    if (a < 0)
-        a += (float)CV_PI;
-    int b = (int)(a * bins / (float)CV_PI);
-    return b >= bins ? b - bins : b;
-}
-
 // The scene's edges in a crop: 255 where there is none, else the orientation bin of the edge
 // (Canny with the refinement's thresholds; the orientation of the strongest channel's gradient,
 // as computeEdgeMaps)
 static Mat sceneEdgeBins(const Mat& color, const EdgeRefineParams& ep)
 {
-    Mat edges, sx, sy;
+    Mat edges, dx, dy;
     Canny(color, edges, ep.canny_low, ep.canny_high, 3, true);
-    Sobel(color, sx, CV_32F, 1, 0, 3);
-    Sobel(color, sy, CV_32F, 0, 1, 3);
+    strongestGradient(color, dx, dy);
     Mat bins(color.size(), CV_8UC1, Scalar(255));
-    const int cn = color.channels();
     for (int y = 0; y < color.rows; ++y)
     {
         const uchar* e = edges.ptr<uchar>(y);
-        const float* px = sx.ptr<float>(y);
-        const float* py = sy.ptr<float>(y);
+        const float* gx = dx.ptr<float>(y);
+        const float* gy = dy.ptr<float>(y);
         uchar* o = bins.ptr<uchar>(y);
         for (int x = 0; x < color.cols; ++x)
-        {
-            if (!e[x])
-                continue;
-            int best = 0;
-            float m = -1;
-            for (int c = 0; c < cn; ++c)
-            {
-                const float v = px[x * cn + c] * px[x * cn + c] + py[x * cn + c] * py[x * cn + c];
-                if (v > m)
-                {
-                    m = v;
-                    best = c;
-                }
-            }
-            o[x] = (uchar)orientationBin(px[x * cn + best], py[x * cn + best], ep.orientations);
-        }
+            if (e[x])
+                o[x] = (uchar)orientationBin(gx[x], gy[x], ep.orientations);
     }
     return bins;
 }
