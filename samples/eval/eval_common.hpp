@@ -232,6 +232,11 @@ struct RunContext
     fm::VerificationParams verify; //!< top_k: hypotheses per object scored (recall@top_k)
 };
 
+/** The run's context from the options (--threshold, --rgb_refine, --rgb_grid, --repeat,
+--verify_k, --verify_weights) for these frames and this progress line. */
+RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& frames, bool use_depth,
+                      Progress& progress);
+
 /** Runs a forestmod detector (trained as it is) on the frames and scores every object of objs
 (res: one entry per object; with no object, res[0] gets the times only). object_index >= 0:
 only the frames of that object (--synthetic). heat: rejection maps of the first frames.

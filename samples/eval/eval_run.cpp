@@ -343,4 +343,26 @@ double trainDetector(fm::Detector& det, const EvalOptions& opt)
     return tm.getTimeSec();
 }
 
+RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& frames, bool use_depth,
+                      Progress& progress)
+{
+    RunContext ctx;
+    ctx.frames = &frames;
+    ctx.threshold = opt.threshold;
+    ctx.use_depth = use_depth;
+    ctx.rgb_refine = opt.rgb_refine;
+    ctx.rgb_grid = opt.rgb_grid;
+    ctx.repeat = opt.repeat;
+    ctx.progress = &progress;
+    ctx.verify.top_k = opt.verify_k;
+    if (!opt.verify_weights.empty())
+    {
+        ctx.verify.w_similarity = opt.verify_weights[0];
+        ctx.verify.w_color = opt.verify_weights[1];
+        ctx.verify.w_edges = opt.verify_weights[2];
+        ctx.verify.w_depth = opt.verify_weights[3];
+    }
+    return ctx;
+}
+
 } // namespace fmeval

@@ -211,14 +211,7 @@ int runSweeps(const EvalOptions& opt, const std::vector<ObjectInfo>& objects,
     for (size_t i = 0; i < frames.size(); ++i)
         frames[i].owner = -1; // timing only: every model on every frame
     Progress progress;
-    RunContext ctx;
-    ctx.frames = &frames;
-    ctx.threshold = opt.threshold;
-    ctx.use_depth = use_depth;
-    ctx.rgb_refine = opt.rgb_refine;
-    ctx.rgb_grid = opt.rgb_grid;
-    ctx.repeat = opt.repeat;
-    ctx.progress = &progress;
+    const RunContext ctx = runContext(opt, frames, use_depth, progress);
     const int F = (int)frames.size();
 
     Sweep ts, os;

@@ -58,22 +58,7 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
         + (multi ? (int64)frames.size() * 2 : 0);
     progress.done = 0;
 
-    RunContext ctx;
-    ctx.frames = &frames;
-    ctx.threshold = opt.threshold;
-    ctx.use_depth = use_depth;
-    ctx.rgb_refine = opt.rgb_refine;
-    ctx.rgb_grid = opt.rgb_grid;
-    ctx.repeat = opt.repeat;
-    ctx.progress = &progress;
-    ctx.verify.top_k = opt.verify_k;
-    if (!opt.verify_weights.empty())
-    {
-        ctx.verify.w_similarity = opt.verify_weights[0];
-        ctx.verify.w_color = opt.verify_weights[1];
-        ctx.verify.w_edges = opt.verify_weights[2];
-        ctx.verify.w_depth = opt.verify_weights[3];
-    }
+    const RunContext ctx = runContext(opt, frames, use_depth, progress);
 
     // ---- Table 1: one object per model
     std::vector<Result> r1(objects.size()), r5(objects.size()), rl(objects.size());
