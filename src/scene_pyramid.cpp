@@ -89,6 +89,9 @@ static void markTiles(Mat& grid, int tx, int ty, Point reach, uchar bit, int l,
     }
 }
 
+// Share of a level's tiles from which prepareRefinementLevels quantizes the whole level at once.
+static const double kWholeLevelShare = 0.5;
+
 void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<Rect> >& regions)
 {
     const int TW = ScenePyramid::TILE_W, TH = ScenePyramid::TILE_H;
@@ -118,6 +121,28 @@ void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<
                                   quant_todo);
                     }
         }
+    }
+    // a level whose tiles to quantize cover much of it: quantized whole (stripes cost less than
+    // tiles, which blur and differentiate a margin around each)
+    std::vector<int> tiles_of(L, 0);
+    for (size_t k = 0; k < quant_todo.size(); ++k)
+        tiles_of[quant_todo[k].z]++;
+    for (int l = 0; l < L; ++l)
+    {
+        if (tiles_of[l] < kWholeLevelShare * (double)scene.tiles[l].total())
+            continue;
+        LevelMaps& lm = scene.levels[l];
+        for (size_t i = 0; i < lm.quantized.size(); ++i)
+        {
+            LevelSource& src = scene.deferred[l][i];
+            if (src.image.empty())
+                continue;
+            std::vector<Mat> q(1, lm.quantized[i]);
+            fastQuantize(src.info, src.image, src.mask, 1, q);
+            CV_Assert(q[0].data == lm.quantized[i].data); // written in place
+            src.image.release(); // the level is whole now
+        }
+        scene.tiles[l] |= ScenePyramid::TILE_QUANTIZED;
     }
     parallel_for_(Range(0, static_cast<int>(quant_todo.size())), [&](const Range& range) {
         for (int k = range.start; k < range.end; ++k)

@@ -689,7 +689,8 @@ TEST(Forestmod_QuantizeFast, tiles_equal_full_frame_maps)
 // on maps computed everywhere, threshold 0 (no match dropped, also those whose best position is
 // "none") and 60: the same matches. 2 pyramid levels (few matches: part of level 0 computed) and
 // 3 (the regions of level 0 hold every position level 1 may choose).
-static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, bool partial)
+static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, bool partial,
+                                    int whole_level0 = -1)
 {
     using namespace cv::forestmod::detail;
     std::vector<Ptr<linemod::Modality> > mods;
@@ -748,11 +749,18 @@ static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, 
     ASSERT_EQ((size_t)L, regions.size());
     ASSERT_EQ(coarse.size(), regions[0].size());
     prepareRefinementLevels(on_demand, regions);
-    const int tiles0 = countNonZero(on_demand.tiles[0]);
+    Mat maps0;
+    bitwise_and(on_demand.tiles[0], Scalar(ScenePyramid::TILE_MAPS), maps0);
+    const int tiles0 = countNonZero(maps0);
     EXPECT_GT(tiles0, 0);
     if (partial)
     {
         EXPECT_LT(tiles0, (int)on_demand.tiles[0].total());
+    }
+    // level 0 quantized whole (many tiles) or in tiles (few)
+    if (whole_level0 >= 0)
+    {
+        EXPECT_EQ(whole_level0 != 0, on_demand.deferred[0][0].image.empty());
     }
     // the deferred quantized images of the finer levels equal the whole ones in their tiles
     for (int l = 0; l < L; ++l)
@@ -794,8 +802,9 @@ static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, 
 
 TEST(Forestmod_QuantizeFast, refinement_on_tiles_equals_full_maps)
 {
+    expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 1, true, 0);
     expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 6, true);
-    expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 200, false);
+    expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 200, false, 1);
     expectRefinementOnTiles(std::vector<int>{ 4, 6, 8 }, 40, false);
 }
 
