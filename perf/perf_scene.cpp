@@ -260,9 +260,11 @@ PERF_TEST_P(Forestmod_ScenePyramid_tiles, refinement_tiles,
     ScenePyramid scene;
     quantizeScene(s.modalities, roles, T, s.sources, std::vector<Mat>(), scene, noArray());
     const Mat untouched = scene.tiles[0].clone();
+    const std::vector<std::vector<LevelSource> > deferred = scene.deferred;
     TEST_CYCLE()
     {
         untouched.copyTo(scene.tiles[0]); // every cycle computes the tiles again
+        scene.deferred = deferred;         // (and the whole level, when it is chosen)
         prepareRefinementLevels(scene, regions);
     }
     setNumThreads(old_threads);

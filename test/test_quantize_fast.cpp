@@ -802,10 +802,50 @@ static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, 
 
 TEST(Forestmod_QuantizeFast, refinement_on_tiles_equals_full_maps)
 {
-    expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 1, true, 0);
+    expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 1, true);
     expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 6, true);
     expectRefinementOnTiles(std::vector<int>{ 5, 8 }, 200, false, 1);
     expectRefinementOnTiles(std::vector<int>{ 4, 6, 8 }, 40, false);
+}
+
+// A small region: level 0 quantized in the few tiles it needs (not whole), equal there to the
+// whole level.
+TEST(Forestmod_QuantizeFast, few_tiles_quantized_in_place)
+{
+    using namespace cv::forestmod::detail;
+    std::vector<Ptr<linemod::Modality> > mods;
+    mods.push_back(linemod::Modality::create("ColorGradient"));
+    mods.push_back(ColorHue::create());
+    const Mat frame = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png"),
+                             IMREAD_COLOR);
+    ASSERT_FALSE(frame.empty());
+    const std::vector<Mat> sources(2, frame);
+    const ModalityRoles roles = ModalityRoles::of(mods);
+    const std::vector<int> T{ 5, 8 };
+    ScenePyramid scene;
+    quantizeScene(mods, roles, T, sources, std::vector<Mat>(), scene, noArray());
+    std::vector<std::vector<Rect> > regions(1, std::vector<Rect>(1, Rect(300, 200, 20, 10)));
+    prepareRefinementLevels(scene, regions);
+    ASSERT_FALSE(scene.deferred[0][0].image.empty()) << "level 0 was quantized whole";
+    std::vector<Mat> whole;
+    for (size_t m = 0; m < mods.size(); ++m)
+    {
+        ASSERT_TRUE(fastQuantize(mods[m], frame, Mat(), 1, whole));
+        int tiles = 0;
+        for (int ty = 0; ty < scene.tiles[0].rows; ++ty)
+            for (int tx = 0; tx < scene.tiles[0].cols; ++tx)
+                if (scene.tiles[0].at<uchar>(ty, tx) & ScenePyramid::TILE_QUANTIZED)
+                {
+                    const Rect tile = Rect(tx * ScenePyramid::TILE_W, ty * ScenePyramid::TILE_H,
+                                           ScenePyramid::TILE_W, ScenePyramid::TILE_H)
+                                      & Rect(Point(0, 0), frame.size());
+                    ASSERT_EQ(0, cvtest::norm(whole[0](tile), scene.levels[0].quantized[m](tile),
+                                              NORM_INF)) << "modality " << m << " " << tile;
+                    ++tiles;
+                }
+        EXPECT_GE(tiles, 1);
+        EXPECT_LE(tiles, 4); // the region's tile and its right / lower neighbours
+    }
 }
 
 // match() with the scene pyramid's fast paths and on-demand tiles gives the same matches with 1
