@@ -53,6 +53,9 @@ void checkDetectorParams(const DetectorParams& p)
     CV_Check(p.nms_iou, p.nms_iou >= 0.f && p.nms_iou <= 1.f,
              "DetectorParams: nms_iou must be in [0, 1] (0 or 1: no suppression)");
     CV_CheckGT(p.max_survivors, 0, "DetectorParams: max_survivors must be positive");
+    CV_CheckLE(p.max_survivors, (int)MAX_SURVIVORS,
+               "DetectorParams: max_survivors must be at most 64 (exhaustive groups keep "
+               "max_survivors x (T / location step)^2 matches per position)");
     CV_Check(p.exhaustive_ratio, finite(p.exhaustive_ratio),
              "DetectorParams: exhaustive_ratio must be finite (negative: never exhaustive)");
     CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");

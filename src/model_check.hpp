@@ -27,6 +27,7 @@ enum ModelLimits
     MAX_TEMPLATE_FEATURES = 8192,  //!< features of one template (one level, one modality)
     MAX_MODALITIES = 8,            //!< modalities of a detector
     MAX_LOCATION_STEP = 16,        //!< DetectorParams::location_step
+    MAX_SURVIVORS = 64,            //!< DetectorParams::max_survivors
     MAX_DEPTH_SAMPLE_MM = 65535    //!< depth of a depth sample (16-bit depth images)
 };
 

@@ -156,6 +156,13 @@ TEST(Forestmod_HostileInputs, mutated_model_files_are_refused_with_the_field_nam
           "location_step" },
         { "alpha nan", "alpha: [^\\n]*", "alpha: .nan", false, "alpha" },
         { "num_trees 10^6", "num_trees: \\d+", "num_trees: 1000000", false, "num_trees" },
+        // fuzz finding: a string read as INT_MAX overflowed the exhaustive search's keep count
+        { "max_survivors a string", "max_survivors: \\d+", "max_survivors: x1", false,
+          "parameter 'max_survivors' must be a number" },
+        { "max_survivors 2^31 - 1", "max_survivors: \\d+", "max_survivors: 2147483647", false,
+          "max_survivors must be at most 64" },
+        { "chunk_size 1e30", "chunk_size: \\d+", "chunk_size: 1.e+30", false,
+          "parameter 'chunk_size' is out of the range of an integer" },
         { "T 0", "T: !!binary \\|\\s*\\S+", "T: [ 5, 0 ]", false,
           "T of pyramid level 1 is 0" },
         { "pyramid_levels 9, 9 values of T", "pyramid_levels: 2\\s*T: !!binary \\|\\s*\\S+",
@@ -224,6 +231,8 @@ TEST(Forestmod_HostileInputs, detector_params_out_of_range_raise_naming_the_fiel
         { "auto_depth_leaf_samples",
           [](cv::forestmod::DetectorParams& p) { p.auto_depth_leaf_samples = std::nanf(""); } },
         { "depth_tolerance", [](cv::forestmod::DetectorParams& p) { p.depth_tolerance = 70000; } },
+        { "max_survivors", [](cv::forestmod::DetectorParams& p) { p.max_survivors = 65; } },
+        { "max_survivors", [](cv::forestmod::DetectorParams& p) { p.max_survivors = 0; } },
         { "num_trees", [](cv::forestmod::DetectorParams& p) { p.forest.num_trees = 1001; } },
         { "max_depth", [](cv::forestmod::DetectorParams& p) { p.forest.max_depth = 31; } },
     };
@@ -247,6 +256,7 @@ TEST(Forestmod_HostileInputs, detector_params_out_of_range_raise_naming_the_fiel
     EXPECT_NO_THROW(det->setParams(p));
     p.nms_iou = 1.f;
     p.location_step = 16;
+    p.max_survivors = 64;
     EXPECT_NO_THROW(det->setParams(p));
     EXPECT_EQ(16, det->getParams().location_step);
 }
