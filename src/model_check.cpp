@@ -432,7 +432,8 @@ void checkTemplatePose(const TemplatePose& p, const Template& t0, const String& 
         return;
     bool ok = true;
     for (int i = 0; i < 9; ++i)
-        ok = ok && finite(p.R.val[i]) && std::abs(p.R.val[i]) <= 1e6 && finite(p.K.val[i]);
+        ok = ok && finite(p.R.val[i]) && std::abs(p.R.val[i]) <= 1e6 && finite(p.K.val[i])
+             && std::abs(p.K.val[i]) <= 1e6;
     for (int i = 0; i < 3; ++i)
         ok = ok && finite(p.t[i]) && std::abs(p.t[i]) <= 1e9;
     if (!ok)
@@ -441,10 +442,19 @@ void checkTemplatePose(const TemplatePose& p, const Template& t0, const String& 
     if (!(p.t[2] > 0))
         CV_Error_(Error::StsParseError, ("forestmod model: %s: pose t_z is %g mm, the object must "
                                          "be in front of the camera", where.c_str(), p.t[2]));
-    if (!(p.K(0, 0) > 0) || !(p.K(1, 1) > 0))
+    if (!(p.K(0, 0) >= 1) || !(p.K(1, 1) >= 1))
         CV_Error_(Error::StsParseError, ("forestmod model: %s: pose K has focal lengths %g, %g; "
-                                         "they must be positive", where.c_str(), p.K(0, 0),
-                                         p.K(1, 1)));
+                                         "they must be at least 1 pixel", where.c_str(),
+                                         p.K(0, 0), p.K(1, 1)));
+    if (p.K(2, 0) != 0 || p.K(2, 1) != 0 || p.K(2, 2) != 1)
+        CV_Error_(Error::StsParseError, ("forestmod model: %s: pose K's last row is (%g, %g, %g), "
+                                         "expected (0, 0, 1)", where.c_str(), p.K(2, 0),
+                                         p.K(2, 1), p.K(2, 2)));
+    const Vec3d c = p.K * p.t; // the object centre's projection, used by the depth modality
+    if (!(std::abs(c[0]) <= 1e6 * c[2]) || !(std::abs(c[1]) <= 1e6 * c[2]))
+        CV_Error_(Error::StsParseError, ("forestmod model: %s: the object centre projects to "
+                                         "(%g, %g), beyond 1e6 pixels", where.c_str(),
+                                         c[0] / c[2], c[1] / c[2]));
     if (p.box.width != t0.width || p.box.height != t0.height)
         CV_Error_(Error::StsParseError, ("forestmod model: %s: pose box %d x %d, the template is "
                                          "%d x %d", where.c_str(), p.box.width, p.box.height,

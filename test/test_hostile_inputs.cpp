@@ -150,6 +150,18 @@ TEST(Forestmod_HostileInputs, mutated_model_files_are_refused_with_the_field_nam
           "pose box 0 x 0" },
         { "pose box huge", "box: \\[ (\\d+), (\\d+), \\d+, \\d+ \\]",
           "box: [ $1, $2, 1000000, 1000000 ]", false, "pose box 1000000 x 1000000" },
+        // fuzz finding: K(2, 2) 3e-310 put the depth modality's object centre at infinity
+        { "pose K last row", "(K: !!opencv-matrix\\s*rows: 3\\s*cols: 3\\s*dt: d\\s*)"
+          "data: !!binary \\|\\s*\\S+\\s*\\S+",
+          "$01data: [ 500., 0., 80., 0., 500., 80., 0., 0., 3e-310 ]", false,
+          "pose K's last row is (0, 0, 3e-310), expected (0, 0, 1)" },
+        { "pose focal length 1e-40", "(K: !!opencv-matrix\\s*rows: 3\\s*cols: 3\\s*dt: d\\s*)"
+          "data: !!binary \\|\\s*\\S+\\s*\\S+",
+          "$01data: [ 1e-40, 0., 80., 0., 500., 80., 0., 0., 1. ]", false,
+          "they must be at least 1 pixel" },
+        { "pose centre at infinity", "(t: !!opencv-matrix\\s*rows: 3\\s*cols: 1\\s*dt: d\\s*)"
+          "data: !!binary \\|\\s*\\S+", "$01data: [ 1., 0., 1e-300 ]", false,
+          "beyond 1e6 pixels" },
         // parameters, through the check of setParams
         { "nms_iou -3", "nms_iou: [^\\n]*", "nms_iou: -3.", false, "nms_iou" },
         { "location_step 100000", "location_step: \\d+", "location_step: 100000", false,
