@@ -100,7 +100,44 @@ static int base64Value(char c)
     return -1;
 }
 
-// every base64 block of the text starts with a non-empty type header (see readModelText)
+// The 24-byte header of a base64 block starting at p as OpenCV's decoder reads it: the printable
+// characters of its rows (a row ends at a line's end, in JSON at ',' or '"'; the next row starts
+// after its indentation), characters outside the base64 alphabet counting as 0.
+static std::string base64Header(const std::string& text, size_t p, bool json)
+{
+    std::vector<int> v;
+    bool row_start = true;
+    for (; p < text.size() && v.size() < 32; ++p)
+    {
+        const uchar c = (uchar)text[p];
+        if (c == '\n' || c == '\r')
+        {
+            if (json)
+                break;
+            row_start = true;
+            continue;
+        }
+        if (row_start && (c == ' ' || c == '\t'))
+            continue;
+        if (c < ' ' || (json && (c == ',' || c == '"')))
+            break;
+        row_start = false;
+        v.push_back(std::max(0, base64Value((char)c)));
+    }
+    v.resize(32, 0);
+    std::string h;
+    for (size_t i = 0; i < 32; i += 4)
+    {
+        h.push_back((char)((v[i] << 2) | (v[i + 1] >> 4)));
+        h.push_back((char)(((v[i + 1] << 4) | (v[i + 2] >> 2)) & 255));
+        h.push_back((char)(((v[i + 2] << 6) | v[i + 3]) & 255));
+    }
+    return h;
+}
+
+// Every base64 block of the text starts with a type header ("3d", "1u" ...; see readModelText)
+// that names at least one element type: OpenCV 4.6 loops forever on a header of only a count or
+// an empty one (found by fuzzing).
 static void checkBase64Blocks(const std::string& text, const String& filename)
 {
     const char* markers[] = { "!!binary", "$base64$", "type_id=\"binary\"" };
@@ -125,23 +162,15 @@ static void checkBase64Blocks(const std::string& text, const String& filename)
                 ok = p != std::string::npos;
                 ++p;
             }
-            int v[2] = { -1, -1 }, n = 0;
-            for (; ok && p < text.size() && n < 2; ++p)
+            if (ok)
             {
-                const char c = text[p];
-                if (c == ' ' || c == '\t' || c == '\n' || c == '\r')
-                    continue;
-                v[n] = base64Value(c);
-                if (v[n++] < 0)
-                    break;
+                const std::string h = base64Header(text, p, mk == 1);
+                // the type string: up to the first space or NUL, as OpenCV cuts it
+                size_t n = 0;
+                while (n < h.size() && h[n] != 0 && !std::isspace((uchar)h[n]))
+                    ++n;
+                ok = n > 0 && h.find_first_of("ucwsifdhr") < n;
             }
-            if (ok && n == 2 && v[0] >= 0 && v[1] >= 0)
-            {
-                const int first = (v[0] << 2) | (v[1] >> 4); // the header's first byte
-                ok = first > ' ' && first < 127;
-            }
-            else
-                ok = false;
             if (!ok)
                 CV_Error_(Error::StsParseError, ("forestmod model: '%s': a base64 block at byte %d "
                                                  "has no data type header (corrupt file?)",
