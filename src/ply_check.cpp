@@ -217,6 +217,12 @@ static PlyHeader parseHeader(std::ifstream& f, const String& path)
     {
         if (!line.empty() && line[line.size() - 1] == '\r')
             line.erase(line.size() - 1);
+        // a CR or another control character inside a line: assimp 5.2 hangs on some (fuzzing)
+        for (size_t i = 0; i < line.size(); ++i)
+            if ((uchar)line[i] < ' ' && line[i] != '\t')
+                CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY header line %d holds the "
+                                                 "control character %d (lines end with \\n or "
+                                                 "\\r\\n)", path.c_str(), n + 2, (int)line[i]));
         std::istringstream ls(line);
         std::string key;
         ls >> key;

@@ -359,6 +359,11 @@ TEST(Forestmod_HostileInputs, bad_ply_files_are_refused_with_the_problem_named)
     bad.replace(bad.find("end_header"), 10, "end_head`er");
     err = meshError(bad);
     EXPECT_NE(std::string::npos, err.find("PLY header line")) << err;
+    // lone CRs before a header keyword (fuzz finding: assimp 5.2 hangs on them)
+    bad = plyAscii(v, f);
+    bad.insert(bad.find("end_header"), "\r\r\r");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("holds the control character 13")) << err;
 
     // degenerate and absurd geometry
     std::vector<Point3f> zero(4, Point3f(0, 0, 0));
