@@ -246,6 +246,9 @@ static PlyHeader parseHeader(std::ifstream& f, const String& path)
             ok = parseProperty(ls, h);
         else
             ok = false;
+        std::string extra; // nothing after a line's fields (assimp reads such lines otherwise)
+        if (ok && (ls >> extra))
+            ok = false;
         if (!ok)
             CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY header line %d not "
                                              "understood: '%s'", path.c_str(), n + 2,
