@@ -156,6 +156,18 @@ static bool plyNumber(const std::string& tok, bool integral, long long* value)
     return *end == '\0';
 }
 
+// an element's or property's name: a letter or '_' first, then letters, digits, '_' or '-', at
+// most 64 characters (assimp 5.2 reads other names its own way: fuzzing)
+static bool plyName(const std::string& name)
+{
+    if (name.empty() || name.size() > 64 || !(std::isalpha((uchar)name[0]) || name[0] == '_'))
+        return false;
+    for (size_t i = 1; i < name.size(); ++i)
+        if (!std::isalnum((uchar)name[i]) && name[i] != '_' && name[i] != '-')
+            return false;
+    return true;
+}
+
 // "element <name> <count>", the count within Mesh's limits
 static bool parseElement(std::istringstream& ls, const String& path, PlyHeader& h)
 {
@@ -163,7 +175,7 @@ static bool parseElement(std::istringstream& ls, const String& path, PlyHeader& 
     std::string count;
     ls >> e.name >> count;
     long long c = -1;
-    const bool ok = !e.name.empty() && plyNumber(count, true, &c) && c >= 0;
+    const bool ok = plyName(e.name) && plyNumber(count, true, &c) && c >= 0;
     const int64 limit = e.name == "face" ? (int64)Mesh::MAX_FACES : (int64)Mesh::MAX_VERTICES;
     if (ok && c > limit)
         CV_Error_(Error::StsOutOfRange, ("Mesh::load: '%s': the PLY header declares %lld '%s' "
@@ -200,7 +212,7 @@ static bool parseProperty(std::istringstream& ls, PlyHeader& h)
     }
     ls >> name;
     h.elements.back().props.push_back(pr);
-    return ok && !name.empty();
+    return ok && plyName(name);
 }
 
 // The header up to end_header (at most 10000 lines); the stream is left at the data.

@@ -364,6 +364,15 @@ TEST(Forestmod_HostileInputs, bad_ply_files_are_refused_with_the_problem_named)
     bad.replace(bad.find("property float x"), 16, "property float x 05 0 255");
     err = meshError(bad);
     EXPECT_NE(std::string::npos, err.find("PLY header line 4 not understood")) << err;
+    // names that are no identifiers (fuzz finding: "element 666...6vertex 4", 64 GB in assimp)
+    bad = plyAscii(v, f);
+    bad.replace(bad.find("element vertex"), 14, "element 666vertex");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("PLY header line 3 not understood")) << err;
+    bad = plyAscii(v, f);
+    bad.replace(bad.find("property float y"), 16, "property float (y");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("PLY header line 5 not understood")) << err;
     // lone CRs before a header keyword (fuzz finding: assimp 5.2 hangs on them)
     bad = plyAscii(v, f);
     bad.insert(bad.find("end_header"), "\r\r\r");
