@@ -9,6 +9,7 @@
 #include "ply_check.hpp"
 
 #include <cctype>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -139,12 +140,14 @@ static uint64 plyReadCount(const uchar* p, int size, bool big_endian)
     return v;
 }
 
-// an ASCII PLY value: the whole token is a number (an integer for integer types)
+// an ASCII PLY value: the whole token is a number (an integer for integer types, within 64
+// bits); a NUL byte inside ends no number (assimp 5.2 reads the data otherwise: fuzzing)
 static bool plyNumber(const std::string& tok, bool integral, long long* value)
 {
     if (tok.empty())
         return false;
     char* end = 0;
+    errno = 0;
     if (integral)
     {
         const long long v = std::strtoll(tok.c_str(), &end, 10);
@@ -153,7 +156,7 @@ static bool plyNumber(const std::string& tok, bool integral, long long* value)
     }
     else
         (void)std::strtod(tok.c_str(), &end);
-    return *end == '\0';
+    return end == tok.c_str() + tok.size() && !(integral && errno == ERANGE);
 }
 
 // an element's or property's name: a letter or '_' first, then letters, digits, '_' or '-', at
