@@ -10,6 +10,8 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cfloat>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -141,22 +143,48 @@ static uint64 plyReadCount(const uchar* p, int size, bool big_endian)
 }
 
 // an ASCII PLY value: the whole token is a number (an integer for integer types, within 64
-// bits); a NUL byte inside ends no number (assimp 5.2 reads the data otherwise: fuzzing)
-static bool plyNumber(const std::string& tok, bool integral, long long* value)
+// bits); a NUL byte inside ends no number (assimp 5.2 reads the data otherwise: fuzzing); a real
+// bits); a real of `size` 4 or 8 bytes must be finite in that type (assimp 5.2 allocated 7.6 GB
+// for a vertex at infinity: fuzzing)
+static bool plyNumber(const std::string& tok, bool integral, long long* value, int size = 0)
 {
     if (tok.empty())
         return false;
     char* end = 0;
     errno = 0;
+    bool in_range = true;
     if (integral)
     {
         const long long v = std::strtoll(tok.c_str(), &end, 10);
         if (value)
             *value = v;
+        in_range = errno != ERANGE;
     }
     else
-        (void)std::strtod(tok.c_str(), &end);
-    return end == tok.c_str() + tok.size() && !(integral && errno == ERANGE);
+    {
+        const double v = std::strtod(tok.c_str(), &end);
+        in_range = size == 4 ? std::abs(v) <= FLT_MAX : size != 8 || std::isfinite(v);
+    }
+    return end == tok.c_str() + tok.size() && in_range;
+}
+
+// a binary real (4 or 8 bytes, the file's byte order) is finite
+static bool plyFiniteReal(const uchar* b, int size, bool big_endian)
+{
+    const ushort one = 1;
+    const bool swap = big_endian == (*(const uchar*)&one == 1);
+    uchar t[8] = { 0 };
+    for (int i = 0; i < size && i < 8; ++i)
+        t[i] = swap ? b[size - 1 - i] : b[i];
+    if (size == 4)
+    {
+        float f;
+        std::memcpy(&f, t, 4);
+        return std::isfinite(f);
+    }
+    double d;
+    std::memcpy(&d, t, 8);
+    return size != 8 || std::isfinite(d);
 }
 
 // an element's or property's name: a letter or '_' first, then letters, digits, '_' or '-', at
@@ -294,7 +322,7 @@ static bool walkProperty(PlyData& data, int format, const PlyElement& el, const 
     {
         if (!data.token(tok))
             return false;
-        if (!plyNumber(tok, pr.list || pr.integral, pr.list ? &items : 0))
+        if (!plyNumber(tok, pr.list || pr.integral, pr.list ? &items : 0, pr.list ? 0 : pr.size))
             notANumber(path, el, r, tok);
     }
     else if (pr.list)
@@ -316,10 +344,13 @@ static bool walkProperty(PlyData& data, int format, const PlyElement& el, const 
         {
             if (!data.read(pr.size))
                 return false;
+            if (!pr.integral && !plyFiniteReal(data.bytes(), pr.size,
+                                               format == PLY_BINARY_BIG_ENDIAN))
+                notANumber(path, el, r, "(a binary inf or nan)");
         }
         else if (!data.token(tok))
             return false;
-        else if (!plyNumber(tok, pr.integral, 0))
+        else if (!plyNumber(tok, pr.integral, 0, pr.size))
             notANumber(path, el, r, tok);
     }
     return true;

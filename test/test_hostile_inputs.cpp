@@ -355,6 +355,10 @@ TEST(Forestmod_HostileInputs, bad_ply_files_are_refused_with_the_problem_named)
     bad.replace(bad.find("40 0 0"), 2, std::string("4\0", 2));
     err = meshError(bad);
     EXPECT_NE(std::string::npos, err.find("where a number is expected")) << err;
+    bad = plyAscii(v, f); // beyond a float (fuzz finding: assimp allocated 7.6 GB)
+    bad.replace(bad.find("40 0 0"), 2, "4e39");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("holds '4e39' where a number is expected")) << err;
     bad = plyAscii(v, f);
     bad.replace(bad.rfind("3 1 2 3"), 1, "1000");
     err = meshError(bad);
