@@ -38,6 +38,10 @@ struct PlyProperty
     int count_size; // bytes of a list's count
 };
 
+// |value| of every real (float, double) as the file holds it (before Mesh::load's scale): assimp
+// 5.2 used over 2 GB on a vertex property of 2.4e27 (fuzzing)
+static const double MAX_PLY_REAL = 1e12;
+
 struct PlyElement
 {
     std::string name;
@@ -324,6 +328,10 @@ static bool walkProperty(PlyData& data, int format, const PlyElement& el, const 
             return false;
         if (!plyNumber(tok, pr.list || pr.integral, pr.list ? &items : 0, pr.list ? 0 : pr.size))
             notANumber(path, el, r, tok);
+        if (!pr.list && !pr.integral && !(std::abs(std::strtod(tok.c_str(), 0)) <= MAX_PLY_REAL))
+            CV_Error_(Error::StsOutOfRange, ("Mesh::load: '%s': PLY '%s' %lld: value %s lies "
+                                             "beyond +-1e12 (the file's units)", path.c_str(),
+                                             el.name.c_str(), (long long)r, tok.c_str()));
     }
     else if (pr.list)
     {
