@@ -50,7 +50,9 @@ static inline int predictedDepth(const DepthTemplate& t, const Vec3f& row, const
         return s.z;
     const float z = (float)s.z;
     const float X = (s.x - t.pp.x) * z / t.fx, Y = (s.y - t.pp.y) * z / t.fy;
-    return cvRound(row[0] * X + row[1] * Y + row[2] * z);
+    // clamped (NaN: the upper end): scene minus predicted depth stays an int for any pose
+    const float d = row[0] * X + row[1] * Y + row[2] * z;
+    return cvRound(std::max(-1e7f, std::min(1e7f, d)));
 }
 
 // Median offset (scene minus predicted template depth, mm) of the first n <= 256 samples at

@@ -53,6 +53,9 @@ void checkDetectorParams(const DetectorParams& p)
     CV_Check(p.nms_iou, p.nms_iou >= 0.f && p.nms_iou <= 1.f,
              "DetectorParams: nms_iou must be in [0, 1] (0 or 1: no suppression)");
     CV_CheckGT(p.max_survivors, 0, "DetectorParams: max_survivors must be positive");
+    CV_CheckLE(p.max_survivors, (int)MAX_SURVIVORS,
+               "DetectorParams: max_survivors must be at most 64 (exhaustive groups keep "
+               "max_survivors x (T / location step)^2 matches per position)");
     CV_Check(p.exhaustive_ratio, finite(p.exhaustive_ratio),
              "DetectorParams: exhaustive_ratio must be finite (negative: never exhaustive)");
     CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");
@@ -97,7 +100,44 @@ static int base64Value(char c)
     return -1;
 }
 
-// every base64 block of the text starts with a non-empty type header (see readModelText)
+// The 24-byte header of a base64 block starting at p as OpenCV's decoder reads it: the printable
+// characters of its rows (a row ends at a line's end, in JSON at ',' or '"'; the next row starts
+// after its indentation), characters outside the base64 alphabet counting as 0.
+static std::string base64Header(const std::string& text, size_t p, bool json)
+{
+    std::vector<int> v;
+    bool row_start = true;
+    for (; p < text.size() && v.size() < 32; ++p)
+    {
+        const uchar c = (uchar)text[p];
+        if (c == '\n' || c == '\r')
+        {
+            if (json)
+                break;
+            row_start = true;
+            continue;
+        }
+        if (row_start && (c == ' ' || c == '\t'))
+            continue;
+        if (c < ' ' || (json && (c == ',' || c == '"')))
+            break;
+        row_start = false;
+        v.push_back(std::max(0, base64Value((char)c)));
+    }
+    v.resize(32, 0);
+    std::string h;
+    for (size_t i = 0; i < 32; i += 4)
+    {
+        h.push_back((char)((v[i] << 2) | (v[i + 1] >> 4)));
+        h.push_back((char)(((v[i + 1] << 4) | (v[i + 2] >> 2)) & 255));
+        h.push_back((char)(((v[i + 2] << 6) | v[i + 3]) & 255));
+    }
+    return h;
+}
+
+// Every base64 block of the text starts with a type header ("3d", "1u" ...; see readModelText)
+// that names at least one element type: OpenCV 4.6 loops forever on a header of only a count or
+// an empty one (found by fuzzing).
 static void checkBase64Blocks(const std::string& text, const String& filename)
 {
     const char* markers[] = { "!!binary", "$base64$", "type_id=\"binary\"" };
@@ -122,23 +162,15 @@ static void checkBase64Blocks(const std::string& text, const String& filename)
                 ok = p != std::string::npos;
                 ++p;
             }
-            int v[2] = { -1, -1 }, n = 0;
-            for (; ok && p < text.size() && n < 2; ++p)
+            if (ok)
             {
-                const char c = text[p];
-                if (c == ' ' || c == '\t' || c == '\n' || c == '\r')
-                    continue;
-                v[n] = base64Value(c);
-                if (v[n++] < 0)
-                    break;
+                const std::string h = base64Header(text, p, mk == 1);
+                // the type string: up to the first space or NUL, as OpenCV cuts it
+                size_t n = 0;
+                while (n < h.size() && h[n] != 0 && !std::isspace((uchar)h[n]))
+                    ++n;
+                ok = n > 0 && h.find_first_of("ucwsifdhr") < n;
             }
-            if (ok && n == 2 && v[0] >= 0 && v[1] >= 0)
-            {
-                const int first = (v[0] << 2) | (v[1] >> 4); // the header's first byte
-                ok = first > ' ' && first < 127;
-            }
-            else
-                ok = false;
             if (!ok)
                 CV_Error_(Error::StsParseError, ("forestmod model: '%s': a base64 block at byte %d "
                                                  "has no data type header (corrupt file?)",
@@ -429,7 +461,8 @@ void checkTemplatePose(const TemplatePose& p, const Template& t0, const String& 
         return;
     bool ok = true;
     for (int i = 0; i < 9; ++i)
-        ok = ok && finite(p.R.val[i]) && std::abs(p.R.val[i]) <= 1e6 && finite(p.K.val[i]);
+        ok = ok && finite(p.R.val[i]) && std::abs(p.R.val[i]) <= 1e6 && finite(p.K.val[i])
+             && std::abs(p.K.val[i]) <= 1e6;
     for (int i = 0; i < 3; ++i)
         ok = ok && finite(p.t[i]) && std::abs(p.t[i]) <= 1e9;
     if (!ok)
@@ -438,10 +471,19 @@ void checkTemplatePose(const TemplatePose& p, const Template& t0, const String& 
     if (!(p.t[2] > 0))
         CV_Error_(Error::StsParseError, ("forestmod model: %s: pose t_z is %g mm, the object must "
                                          "be in front of the camera", where.c_str(), p.t[2]));
-    if (!(p.K(0, 0) > 0) || !(p.K(1, 1) > 0))
+    if (!(p.K(0, 0) >= 1) || !(p.K(1, 1) >= 1))
         CV_Error_(Error::StsParseError, ("forestmod model: %s: pose K has focal lengths %g, %g; "
-                                         "they must be positive", where.c_str(), p.K(0, 0),
-                                         p.K(1, 1)));
+                                         "they must be at least 1 pixel", where.c_str(),
+                                         p.K(0, 0), p.K(1, 1)));
+    if (p.K(2, 0) != 0 || p.K(2, 1) != 0 || p.K(2, 2) != 1)
+        CV_Error_(Error::StsParseError, ("forestmod model: %s: pose K's last row is (%g, %g, %g), "
+                                         "expected (0, 0, 1)", where.c_str(), p.K(2, 0),
+                                         p.K(2, 1), p.K(2, 2)));
+    const Vec3d c = p.K * p.t; // the object centre's projection, used by the depth modality
+    if (!(std::abs(c[0]) <= 1e6 * c[2]) || !(std::abs(c[1]) <= 1e6 * c[2]))
+        CV_Error_(Error::StsParseError, ("forestmod model: %s: the object centre projects to "
+                                         "(%g, %g), beyond 1e6 pixels", where.c_str(),
+                                         c[0] / c[2], c[1] / c[2]));
     if (p.box.width != t0.width || p.box.height != t0.height)
         CV_Error_(Error::StsParseError, ("forestmod model: %s: pose box %d x %d, the template is "
                                          "%d x %d", where.c_str(), p.box.width, p.box.height,

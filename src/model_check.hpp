@@ -27,6 +27,7 @@ enum ModelLimits
     MAX_TEMPLATE_FEATURES = 8192,  //!< features of one template (one level, one modality)
     MAX_MODALITIES = 8,            //!< modalities of a detector
     MAX_LOCATION_STEP = 16,        //!< DetectorParams::location_step
+    MAX_SURVIVORS = 64,            //!< DetectorParams::max_survivors
     MAX_DEPTH_SAMPLE_MM = 65535    //!< depth of a depth sample (16-bit depth images)
 };
 
@@ -72,8 +73,9 @@ MAX_TEMPLATE_FEATURES per template, every label in 0..7 and every feature inside
 void checkTemplatePyramid(const TemplatePyramid& tp, int num_modalities, int pyramid_levels,
                           const String& where);
 
-/** A template pose (when valid): finite R and t with t's z > 0, K with finite entries and
-positive focal lengths, and a box of exactly the template's level-0 size at a position in
+/** A template pose (when valid): finite R and t with t's z > 0, K with entries within 1e6,
+focal lengths of at least 1 pixel and the last row (0, 0, 1), the object centre projecting
+within 1e6 pixels, and a box of exactly the template's level-0 size at a position in
 [0, 65535] (the box of the template's features in its own image). */
 void checkTemplatePose(const TemplatePose& pose, const linemod::Template& level0,
                        const String& where);

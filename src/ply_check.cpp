@@ -9,6 +9,9 @@
 #include "ply_check.hpp"
 
 #include <cctype>
+#include <cerrno>
+#include <cfloat>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -34,6 +37,10 @@ struct PlyProperty
     bool list;
     int count_size; // bytes of a list's count
 };
+
+// |value| of every real (float, double) as the file holds it (before Mesh::load's scale): assimp
+// 5.2 used over 2 GB on a vertex property of 2.4e27 (fuzzing)
+static const double MAX_PLY_REAL = 1e12;
 
 struct PlyElement
 {
@@ -139,21 +146,61 @@ static uint64 plyReadCount(const uchar* p, int size, bool big_endian)
     return v;
 }
 
-// an ASCII PLY value: the whole token is a number (an integer for integer types)
-static bool plyNumber(const std::string& tok, bool integral, long long* value)
+// an ASCII PLY value: the whole token is a number (an integer for integer types, within 64
+// bits); a NUL byte inside ends no number (assimp 5.2 reads the data otherwise: fuzzing); a real
+// bits); a real of `size` 4 or 8 bytes must be finite in that type (assimp 5.2 allocated 7.6 GB
+// for a vertex at infinity: fuzzing)
+static bool plyNumber(const std::string& tok, bool integral, long long* value, int size = 0)
 {
     if (tok.empty())
         return false;
     char* end = 0;
+    errno = 0;
+    bool in_range = true;
     if (integral)
     {
         const long long v = std::strtoll(tok.c_str(), &end, 10);
         if (value)
             *value = v;
+        in_range = errno != ERANGE;
     }
     else
-        (void)std::strtod(tok.c_str(), &end);
-    return *end == '\0';
+    {
+        const double v = std::strtod(tok.c_str(), &end);
+        in_range = size == 4 ? std::abs(v) <= FLT_MAX : size != 8 || std::isfinite(v);
+    }
+    return end == tok.c_str() + tok.size() && in_range;
+}
+
+// a binary real (4 or 8 bytes, the file's byte order) is finite
+static bool plyFiniteReal(const uchar* b, int size, bool big_endian)
+{
+    const ushort one = 1;
+    const bool swap = big_endian == (*(const uchar*)&one == 1);
+    uchar t[8] = { 0 };
+    for (int i = 0; i < size && i < 8; ++i)
+        t[i] = swap ? b[size - 1 - i] : b[i];
+    if (size == 4)
+    {
+        float f;
+        std::memcpy(&f, t, 4);
+        return std::isfinite(f);
+    }
+    double d;
+    std::memcpy(&d, t, 8);
+    return size != 8 || std::isfinite(d);
+}
+
+// an element's or property's name: a letter or '_' first, then letters, digits, '_' or '-', at
+// most 64 characters (assimp 5.2 reads other names its own way: fuzzing)
+static bool plyName(const std::string& name)
+{
+    if (name.empty() || name.size() > 64 || !(std::isalpha((uchar)name[0]) || name[0] == '_'))
+        return false;
+    for (size_t i = 1; i < name.size(); ++i)
+        if (!std::isalnum((uchar)name[i]) && name[i] != '_' && name[i] != '-')
+            return false;
+    return true;
 }
 
 // "element <name> <count>", the count within Mesh's limits
@@ -163,7 +210,7 @@ static bool parseElement(std::istringstream& ls, const String& path, PlyHeader& 
     std::string count;
     ls >> e.name >> count;
     long long c = -1;
-    const bool ok = !e.name.empty() && plyNumber(count, true, &c) && c >= 0;
+    const bool ok = plyName(e.name) && plyNumber(count, true, &c) && c >= 0;
     const int64 limit = e.name == "face" ? (int64)Mesh::MAX_FACES : (int64)Mesh::MAX_VERTICES;
     if (ok && c > limit)
         CV_Error_(Error::StsOutOfRange, ("Mesh::load: '%s': the PLY header declares %lld '%s' "
@@ -200,7 +247,7 @@ static bool parseProperty(std::istringstream& ls, PlyHeader& h)
     }
     ls >> name;
     h.elements.back().props.push_back(pr);
-    return ok && !name.empty();
+    return ok && plyName(name);
 }
 
 // The header up to end_header (at most 10000 lines); the stream is left at the data.
@@ -217,6 +264,12 @@ static PlyHeader parseHeader(std::ifstream& f, const String& path)
     {
         if (!line.empty() && line[line.size() - 1] == '\r')
             line.erase(line.size() - 1);
+        // a CR or another control character inside a line: assimp 5.2 hangs on some (fuzzing)
+        for (size_t i = 0; i < line.size(); ++i)
+            if ((uchar)line[i] < ' ' && line[i] != '\t')
+                CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY header line %d holds the "
+                                                 "control character %d (lines end with \\n or "
+                                                 "\\r\\n)", path.c_str(), n + 2, (int)line[i]));
         std::istringstream ls(line);
         std::string key;
         ls >> key;
@@ -239,6 +292,9 @@ static PlyHeader parseHeader(std::ifstream& f, const String& path)
         else if (key == "property" && !h.elements.empty())
             ok = parseProperty(ls, h);
         else
+            ok = false;
+        std::string extra; // nothing after a line's fields (assimp reads such lines otherwise)
+        if (ok && (ls >> extra))
             ok = false;
         if (!ok)
             CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY header line %d not "
@@ -270,8 +326,12 @@ static bool walkProperty(PlyData& data, int format, const PlyElement& el, const 
     {
         if (!data.token(tok))
             return false;
-        if (!plyNumber(tok, pr.list || pr.integral, pr.list ? &items : 0))
+        if (!plyNumber(tok, pr.list || pr.integral, pr.list ? &items : 0, pr.list ? 0 : pr.size))
             notANumber(path, el, r, tok);
+        if (!pr.list && !pr.integral && !(std::abs(std::strtod(tok.c_str(), 0)) <= MAX_PLY_REAL))
+            CV_Error_(Error::StsOutOfRange, ("Mesh::load: '%s': PLY '%s' %lld: value %s lies "
+                                             "beyond +-1e12 (the file's units)", path.c_str(),
+                                             el.name.c_str(), (long long)r, tok.c_str()));
     }
     else if (pr.list)
     {
@@ -292,10 +352,13 @@ static bool walkProperty(PlyData& data, int format, const PlyElement& el, const 
         {
             if (!data.read(pr.size))
                 return false;
+            if (!pr.integral && !plyFiniteReal(data.bytes(), pr.size,
+                                               format == PLY_BINARY_BIG_ENDIAN))
+                notANumber(path, el, r, "(a binary inf or nan)");
         }
         else if (!data.token(tok))
             return false;
-        else if (!plyNumber(tok, pr.integral, 0))
+        else if (!plyNumber(tok, pr.integral, 0, pr.size))
             notANumber(path, el, r, tok);
     }
     return true;

@@ -150,12 +150,31 @@ TEST(Forestmod_HostileInputs, mutated_model_files_are_refused_with_the_field_nam
           "pose box 0 x 0" },
         { "pose box huge", "box: \\[ (\\d+), (\\d+), \\d+, \\d+ \\]",
           "box: [ $1, $2, 1000000, 1000000 ]", false, "pose box 1000000 x 1000000" },
+        // fuzz finding: K(2, 2) 3e-310 put the depth modality's object centre at infinity
+        { "pose K last row", "(K: !!opencv-matrix\\s*rows: 3\\s*cols: 3\\s*dt: d\\s*)"
+          "data: !!binary \\|\\s*\\S+\\s*\\S+",
+          "$01data: [ 500., 0., 80., 0., 500., 80., 0., 0., 3e-310 ]", false,
+          "pose K's last row is (0, 0, 3e-310), expected (0, 0, 1)" },
+        { "pose focal length 1e-40", "(K: !!opencv-matrix\\s*rows: 3\\s*cols: 3\\s*dt: d\\s*)"
+          "data: !!binary \\|\\s*\\S+\\s*\\S+",
+          "$01data: [ 1e-40, 0., 80., 0., 500., 80., 0., 0., 1. ]", false,
+          "they must be at least 1 pixel" },
+        { "pose centre at infinity", "(t: !!opencv-matrix\\s*rows: 3\\s*cols: 1\\s*dt: d\\s*)"
+          "data: !!binary \\|\\s*\\S+", "$01data: [ 1., 0., 1e-300 ]", false,
+          "beyond 1e6 pixels" },
         // parameters, through the check of setParams
         { "nms_iou -3", "nms_iou: [^\\n]*", "nms_iou: -3.", false, "nms_iou" },
         { "location_step 100000", "location_step: \\d+", "location_step: 100000", false,
           "location_step" },
         { "alpha nan", "alpha: [^\\n]*", "alpha: .nan", false, "alpha" },
         { "num_trees 10^6", "num_trees: \\d+", "num_trees: 1000000", false, "num_trees" },
+        // fuzz finding: a string read as INT_MAX overflowed the exhaustive search's keep count
+        { "max_survivors a string", "max_survivors: \\d+", "max_survivors: x1", false,
+          "parameter 'max_survivors' must be a number" },
+        { "max_survivors 2^31 - 1", "max_survivors: \\d+", "max_survivors: 2147483647", false,
+          "max_survivors must be at most 64" },
+        { "chunk_size 1e30", "chunk_size: \\d+", "chunk_size: 1.e+30", false,
+          "parameter 'chunk_size' is out of the range of an integer" },
         { "T 0", "T: !!binary \\|\\s*\\S+", "T: [ 5, 0 ]", false,
           "T of pyramid level 1 is 0" },
         { "pyramid_levels 9, 9 values of T", "pyramid_levels: 2\\s*T: !!binary \\|\\s*\\S+",
@@ -224,6 +243,8 @@ TEST(Forestmod_HostileInputs, detector_params_out_of_range_raise_naming_the_fiel
         { "auto_depth_leaf_samples",
           [](cv::forestmod::DetectorParams& p) { p.auto_depth_leaf_samples = std::nanf(""); } },
         { "depth_tolerance", [](cv::forestmod::DetectorParams& p) { p.depth_tolerance = 70000; } },
+        { "max_survivors", [](cv::forestmod::DetectorParams& p) { p.max_survivors = 65; } },
+        { "max_survivors", [](cv::forestmod::DetectorParams& p) { p.max_survivors = 0; } },
         { "num_trees", [](cv::forestmod::DetectorParams& p) { p.forest.num_trees = 1001; } },
         { "max_depth", [](cv::forestmod::DetectorParams& p) { p.forest.max_depth = 31; } },
     };
@@ -247,6 +268,7 @@ TEST(Forestmod_HostileInputs, detector_params_out_of_range_raise_naming_the_fiel
     EXPECT_NO_THROW(det->setParams(p));
     p.nms_iou = 1.f;
     p.location_step = 16;
+    p.max_survivors = 64;
     EXPECT_NO_THROW(det->setParams(p));
     EXPECT_EQ(16, det->getParams().location_step);
 }
@@ -329,6 +351,14 @@ TEST(Forestmod_HostileInputs, bad_ply_files_are_refused_with_the_problem_named)
     bad.replace(bad.find("40 0 0"), 2, "4x");
     err = meshError(bad);
     EXPECT_NE(std::string::npos, err.find("where a number is expected")) << err;
+    bad = plyAscii(v, f); // a NUL byte in a value (fuzz finding: assimp allocated 30 GB)
+    bad.replace(bad.find("40 0 0"), 2, std::string("4\0", 2));
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("where a number is expected")) << err;
+    bad = plyAscii(v, f); // beyond a float (fuzz finding: assimp allocated 7.6 GB)
+    bad.replace(bad.find("40 0 0"), 2, "4e39");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("holds '4e39' where a number is expected")) << err;
     bad = plyAscii(v, f);
     bad.replace(bad.rfind("3 1 2 3"), 1, "1000");
     err = meshError(bad);
@@ -337,6 +367,25 @@ TEST(Forestmod_HostileInputs, bad_ply_files_are_refused_with_the_problem_named)
     bad.replace(bad.find("end_header"), 10, "end_head`er");
     err = meshError(bad);
     EXPECT_NE(std::string::npos, err.find("PLY header line")) << err;
+    // more on a property line than its fields (fuzz finding: assimp allocated 11 GB)
+    bad = plyAscii(v, f);
+    bad.replace(bad.find("property float x"), 16, "property float x 05 0 255");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("PLY header line 4 not understood")) << err;
+    // names that are no identifiers (fuzz finding: "element 666...6vertex 4", 64 GB in assimp)
+    bad = plyAscii(v, f);
+    bad.replace(bad.find("element vertex"), 14, "element 666vertex");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("PLY header line 3 not understood")) << err;
+    bad = plyAscii(v, f);
+    bad.replace(bad.find("property float y"), 16, "property float (y");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("PLY header line 5 not understood")) << err;
+    // lone CRs before a header keyword (fuzz finding: assimp 5.2 hangs on them)
+    bad = plyAscii(v, f);
+    bad.insert(bad.find("end_header"), "\r\r\r");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("holds the control character 13")) << err;
 
     // degenerate and absurd geometry
     std::vector<Point3f> zero(4, Point3f(0, 0, 0));

@@ -76,8 +76,8 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     CV_PROP_RW int chunk_size;
     /** alpha of the pass condition s > max(median, alpha). Paper and default: 0.5. */
     CV_PROP_RW float alpha;
-    /** Validation stops at this many candidates, which go on to pyramid refinement. Paper and
-    default: 1. */
+    /** Validation stops at this many candidates, which go on to pyramid refinement. In [1, 64].
+    Paper and default: 1. */
     CV_PROP_RW int max_survivors;
     /** Bounded worst case: in a frame where a search group's forest lets through more
     (location, candidate) pairs than this times (its asked-for templates x the positions of the

@@ -47,8 +47,10 @@ public:
     the file when it has them, otherwise computed (computeNormals()). Coordinates are kept as
     they are in the file (no centring): poses of datasets like BOP refer to them.
 
-    A PLY file is first checked against its header, without allocating: element counts
-    within MAX_VERTICES / MAX_FACES, faces of at most MAX_FACE_INDICES indices, and the data
+    A PLY file is first checked against its header, without allocating: header lines of
+    exactly their fields (identifier names, no control characters), element counts within
+    MAX_VERTICES / MAX_FACES, faces of at most MAX_FACE_INDICES indices, every value a number of
+    its type (reals finite; ASCII reals within +-1e12 as the file holds them), and the data
     exactly as long as the header declares (a truncated file, or more data than declared, is
     refused). The mesh is then validated (validate()).
 
