@@ -10,6 +10,7 @@
 #include "params_io.hpp"
 #include "rejector.hpp"
 #include "model_check.hpp"
+#include "opencv2/core/hal/intrin.hpp"
 
 #include <cstring>
 
@@ -269,9 +270,81 @@ struct Tree
     std::vector<uchar> split_vals;   // exemplar values as bits (0 or 1 << label)
     std::vector<int> rej_dims;
     std::vector<ushort> rej_lut;
+    // rej_lut split for the vectorised test: accepted labels, and 255 where the value 0 is accepted
+    std::vector<uchar> rej_labels, rej_zero;
     std::vector<int> leaf_ids;
     int lowered;                      // nodes whose rejector threshold was lowered
 };
+
+// The look-ups of the vectorised rejector test, from rej_lut (after training and reading).
+static void splitLookups(Tree& t)
+{
+    t.rej_labels.resize(t.rej_lut.size());
+    t.rej_zero.resize(t.rej_lut.size());
+    for (size_t k = 0; k < t.rej_lut.size(); ++k)
+    {
+        t.rej_labels[k] = (uchar)(t.rej_lut[k] & 255);
+        t.rej_zero[k] = (t.rej_lut[k] >> 8) & 1 ? (uchar)255 : (uchar)0;
+    }
+}
+
+// The node tests on a gathered descriptor row (the scan's path), vectorised 16 dims at a time:
+// the same counts as valuesAgree / rejectorPasses dimension by dimension.
+#if CV_SIMD128
+static inline v_uint8x16 gather16(const uchar* values, const int* dims)
+{
+    return v_lut(values, dims);
+}
+#endif
+
+// Dimensions of `dims` where the row disagrees with the exemplar's values `ev`.
+static inline int disagreements(const uchar* values, const int* dims, const uchar* ev, int n)
+{
+    int agree = 0, k = 0;
+#if CV_SIMD128
+    const v_uint8x16 z = v_setzero_u8(), one = v_setall_u8(1);
+    for (; k <= n - 16; k += 16)
+    {
+        const v_uint8x16 v = gather16(values, dims + k), e = v_load(ev + k);
+        // valuesAgree: e == 0 ? v == 0 : (e & v) != 0; (e & v) is 0 where e is
+        const v_uint8x16 a = ((e == z) & (v == z)) | ((e & v) != z);
+        agree += (int)v_reduce_sum(v_expand_low(a & one)) + (int)v_reduce_sum(v_expand_high(a & one));
+    }
+#endif
+    for (; k < n; ++k)
+        agree += valuesAgree(ev[k], values[dims[k]]);
+    return n - agree;
+}
+
+// rejectorPasses on a row: 16 dimensions at a time, leaving as soon as the outcome is known.
+static inline bool rowPasses(const Tree& t, const Node& nd, const uchar* values)
+{
+    const int* dims = &t.rej_dims[nd.rej_begin];
+    const uchar* labels = &t.rej_labels[nd.rej_begin];
+    const uchar* zero = &t.rej_zero[nd.rej_begin];
+    const int n = nd.rej_count, need = nd.rej_min;
+    int accepted = 0, k = 0;
+#if CV_SIMD128
+    const v_uint8x16 z = v_setzero_u8(), one = v_setall_u8(1);
+    for (; k <= n - 16; k += 16)
+    {
+        const v_uint8x16 v = gather16(values, dims + k);
+        const v_uint8x16 a = ((v & v_load(labels + k)) != z) | ((v == z) & v_load(zero + k));
+        accepted += (int)v_reduce_sum(v_expand_low(a & one))
+            + (int)v_reduce_sum(v_expand_high(a & one));
+        if (accepted >= need)
+            return true;
+        if (accepted + (n - k - 16) < need)
+            return false;
+    }
+#endif
+    for (; k < n; ++k)
+    {
+        const uchar v = values[dims[k]];
+        accepted += v ? (v & labels[k]) != 0 : zero[k] != 0;
+    }
+    return accepted >= need;
+}
 
 struct Candidate
 {
@@ -639,6 +712,8 @@ public:
                 builder.build(trees[t]);
             }
         });
+        for (size_t t = 0; t < trees.size(); ++t)
+            splitLookups(trees[t]);
         trees_.swap(trees);
         D_ = desc.cols;
         N_ = N;
@@ -706,22 +781,51 @@ public:
         return ok;
     }
 
-    bool leaf(int tree, const LocationView& view, const int*& ids, int& count,
-              int* rejected_depth) const CV_OVERRIDE
+    bool leaf(int tree, const uchar* values, const int*& ids, int& count, int* rejected_depth,
+              bool root_passed) const CV_OVERRIDE
     {
-        int depth = -1, visited = 0;
         const Tree& t = trees_[tree];
-        const int ni = descend(t, view, depth, visited);
-        if (ni < 0)
+        const Node* nodes = &t.nodes[0];
+        int ni = 0;
+        for (;;)
         {
-            if (rejected_depth)
-                *rejected_depth = depth;
-            return false;
+            const Node& nd = nodes[ni];
+            if (nd.rej_min > 0 && !(ni == 0 && root_passed) && !rowPasses(t, nd, values))
+            {
+                if (rejected_depth)
+                    *rejected_depth = nd.depth;
+                return false;
+            }
+            if (nd.left < 0)
+                break;
+            const int d = disagreements(values, &t.split_dims[nd.split_begin],
+                                        &t.split_vals[nd.split_begin], dsplit_);
+            ni = (float)d < nd.tau ? nd.left : nd.right;
         }
         ids = &t.leaf_ids[t.nodes[ni].leaf_begin];
         count = t.nodes[ni].leaf_count;
         if (rejected_depth)
             *rejected_depth = -1;
+        return true;
+    }
+
+    bool rootRejector(int tree, std::vector<int>& dims, std::vector<ushort>& accepted,
+                      int& min_accept) const CV_OVERRIDE
+    {
+        CV_Assert(tree >= 0 && tree < (int)trees_.size()
+                  && "TemplateForest::rootRejector: tree index out of range");
+        dims.clear();
+        accepted.clear();
+        min_accept = 0;
+        const Tree& t = trees_[tree];
+        const Node& root = t.nodes[0];
+        if (root.rej_min <= 0)
+            return false;
+        dims.assign(t.rej_dims.begin() + root.rej_begin,
+                    t.rej_dims.begin() + root.rej_begin + root.rej_count);
+        accepted.assign(t.rej_lut.begin() + root.rej_begin,
+                        t.rej_lut.begin() + root.rej_begin + root.rej_count);
+        min_accept = root.rej_min;
         return true;
     }
 
@@ -847,7 +951,10 @@ public:
                        (int)ft.size(), p.num_trees));
         std::vector<Tree> trees(p.num_trees);
         for (int t = 0; t < p.num_trees; ++t)
+        {
             readTree(ft[t], t, D, N, ds, trees[t]);
+            splitLookups(trees[t]);
+        }
         params_ = p;
         trees_.swap(trees);
         D_ = D;

@@ -304,6 +304,16 @@ static PlyHeader parseHeader(std::ifstream& f, const String& path)
     if (!end_header || h.format < 0)
         CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY header without %s", path.c_str(),
                                          h.format < 0 ? "a format line" : "end_header"));
+    // assimp 5.2 reads forever when a header with a property-less element ends the file without
+    // a line end (fuzzing): end_header needs its line end, an element a property
+    if (f.eof())
+        CV_Error_(Error::StsParseError, ("Mesh::load: '%s': the PLY header's end_header line "
+                                         "ends without a line break", path.c_str()));
+    for (size_t i = 0; i < h.elements.size(); ++i)
+        if (h.elements[i].props.empty())
+            CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY element '%s' declares no "
+                                             "property", path.c_str(),
+                                             h.elements[i].name.c_str()));
     return h;
 }
 

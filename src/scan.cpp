@@ -6,12 +6,24 @@
 
 #include "precomp.hpp"
 #include "scan.hpp"
+#include "score_kernels.hpp"
 
 namespace cv {
 namespace forestmod {
 namespace detail {
 
 namespace {
+
+// A tree's root rejector as rowTests reads it: per dimension its pointer (as ScanContext::dim_ptr),
+// accepted labels and whether the value 0 is accepted; min_accept 0 when the root has no
+// rejector, or more dimensions than 8-bit counts hold (the tree then tests it, location by
+// location).
+struct RootTest
+{
+    std::vector<const uchar*> ptr;
+    std::vector<uchar> labels, zero_ok;
+    int min_accept;
+};
 
 // What every location of one scan reads: the groups that hold an asked-for class, with their
 // window offsets in the bordered planes, and the rejection limits.
@@ -24,8 +36,11 @@ struct ScanContext
     std::vector<int> trees;                //!< [group]: trees of its forest
     std::vector<uchar> any_tree;           //!< [group]: its ForestParams::reject_any_tree
     std::vector<uchar> active;             //!< [group]: traversed (not searched exhaustively)
-    std::vector<std::vector<int> > deltas; //!< [group][dim]: offset in the planes
+    /** [group][dim]: the dimension's plane + its window offset, for the location (0, 0) */
+    std::vector<std::vector<const uchar*> > dim_ptr;
     std::vector<int> min_labels;           //!< [group]: flat-window limit, 0 = off
+    std::vector<std::vector<RootTest> > roots; //!< [group][tree]
+    int max_trees;
     const std::vector<uchar>* row_allowed;
     std::vector<int> group_of_row;         //!< [index row]: group (in `groups`) or -1
     int S, L;
@@ -46,11 +61,19 @@ struct RowOutput
 };
 
 // Per worker: the candidates of a location as a bit set over the index rows (the leaves of every
-// tree and group merged without sorting), and the accepting leaves of a group.
+// tree and group merged without sorting), the accepting leaves of a group, and the location's
+// descriptor in a group's window (gathered once, read by every tree).
 struct ScanScratch
 {
     std::vector<uint64> bits;
     std::vector<std::pair<const int*, int> > leaves;
+    std::vector<uchar> values;
+    // rowTests: counts over the pixels of a row, and per location of the row whether a group's
+    // window is flat ([group * W + c]) and whether a tree's root passes ([(group * max_trees +
+    // tree) * W + c])
+    std::vector<uchar> count8;
+    std::vector<ushort> count16;
+    std::vector<uchar> flat, root_ok;
 };
 
 } // namespace
@@ -80,14 +103,40 @@ static ScanContext scanContext(const SearchIndex& index, const ScenePyramid& sce
         const ForestParams fp = g.forest->getParams();
         ctx.trees.push_back(fp.num_trees);
         ctx.any_tree.push_back(fp.reject_any_tree ? 1 : 0);
-        std::vector<int> delta(g.plane_of.size());
-        for (size_t j = 0; j < delta.size(); ++j)
-            delta[j] = g.dim_offset[j].y * (int)scene.plane_step + g.dim_offset[j].x;
-        ctx.deltas.push_back(delta);
+        std::vector<const uchar*> ptr(g.plane_of.size());
+        const ptrdiff_t origin = (ptrdiff_t)scene.border * (ptrdiff_t)scene.plane_step
+            + scene.border;
+        for (size_t j = 0; j < ptr.size(); ++j)
+            ptr[j] = scene.plane_ptr[g.plane_of[j]] + origin
+                + (ptrdiff_t)g.dim_offset[j].y * (ptrdiff_t)scene.plane_step + g.dim_offset[j].x;
+        ctx.dim_ptr.push_back(ptr);
         ctx.min_labels.push_back(params.min_window_labels > 0
                                      ? std::max(1, cvCeil(params.min_window_labels * g.min_labels))
                                      : 0);
+        std::vector<RootTest> roots(fp.num_trees);
+        for (int t = 0; t < fp.num_trees; ++t)
+        {
+            std::vector<int> dims;
+            std::vector<ushort> lut;
+            RootTest& rt = roots[t];
+            rt.min_accept = 0;
+            if (!g.forest->rootRejector(t, dims, lut, rt.min_accept) || dims.size() > 255)
+            {
+                rt.min_accept = 0;
+                continue;
+            }
+            for (size_t k = 0; k < dims.size(); ++k)
+            {
+                rt.ptr.push_back(ptr[dims[k]]);
+                rt.labels.push_back((uchar)(lut[k] & 255));
+                rt.zero_ok.push_back((uchar)((lut[k] >> 8) & 1));
+            }
+        }
+        ctx.roots.push_back(roots);
     }
+    ctx.max_trees = 1;
+    for (size_t g = 0; g < ctx.trees.size(); ++g)
+        ctx.max_trees = std::max(ctx.max_trees, ctx.trees[g]);
     ctx.active.assign(ctx.groups.size(), 1);
     ctx.check_depth = !scene.depth.empty() && params.depth_range_margin > 0 && index.z_max > 0;
     ctx.z_lo = index.z_min - params.depth_range_margin;
@@ -117,10 +166,63 @@ static bool outOfDepthRange(const ScanContext& ctx, int c, int r)
     return known && !inside;
 }
 
+// The two tests that send most background locations out, for a row of W locations at once and
+// every active group, vectorised over the row's pixels (every S-th is a location): the flat
+// window (labelled values of the group's window) and the root rejector of every tree (accepted
+// dimensions). The same counts as testing location by location.
+static void rowTests(const ScanContext& ctx, int r, int W, ScanScratch& s)
+{
+    const int S = ctx.S;
+    const int X = (W - 1) * S + 1;
+    const ptrdiff_t row = (ptrdiff_t)r * S * (ptrdiff_t)ctx.scene->plane_step;
+    uchar* count8 = &s.count8[0];
+    ushort* count16 = &s.count16[0];
+    for (size_t gi = 0; gi < ctx.groups.size(); ++gi)
+    {
+        if (!ctx.active[gi])
+            continue;
+        uchar* flat = &s.flat[gi * W];
+        if (ctx.min_labels[gi] > 0)
+        {
+            const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
+            std::fill(count16, count16 + X, (ushort)0);
+            std::fill(count8, count8 + X, (uchar)0);
+            for (size_t j = 0; j < ptr.size(); ++j)
+            {
+                countLabels8(count8, ptr[j] + row, X);
+                if (j % 255 == 254 || j + 1 == ptr.size()) // 8-bit counts stay under 256
+                {
+                    widenAdd(count16, count8, X);
+                    std::fill(count8, count8 + X, (uchar)0);
+                }
+            }
+            for (int c = 0; c < W; ++c)
+                flat[c] = count16[c * S] < ctx.min_labels[gi];
+        }
+        else
+            std::fill(flat, flat + W, (uchar)0);
+        for (int t = 0; t < ctx.trees[gi]; ++t)
+        {
+            const RootTest& rt = ctx.roots[gi][t];
+            uchar* ok = &s.root_ok[((size_t)gi * ctx.max_trees + t) * W];
+            if (rt.min_accept <= 0)
+            {
+                std::fill(ok, ok + W, (uchar)1);
+                continue;
+            }
+            std::fill(count8, count8 + X, (uchar)0);
+            for (size_t k = 0; k < rt.ptr.size(); ++k)
+                countAccepted8(count8, rt.ptr[k] + row, X, rt.labels[k], rt.zero_ok[k]);
+            for (int c = 0; c < W; ++c)
+                ok[c] = count8[c * S] >= rt.min_accept;
+        }
+    }
+}
+
 // Every active search group: a flat window, or its forest (every tree); the location leaves when
 // every group rejects it, its candidates are the union of the accepting trees' leaves (as index
 // rows, marked in s.bits). Returns ACCEPTED, FLAT or the deepest rejecting forest depth.
-static int visitGroups(const ScanContext& ctx, int c, int r, ScanScratch& s)
+static int visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch& s)
 {
     const ScenePyramid& scene = *ctx.scene;
     const int NG = (int)ctx.groups.size();
@@ -132,34 +234,34 @@ static int visitGroups(const ScanContext& ctx, int c, int r, ScanScratch& s)
             continue;
         ++visited;
         const SearchGroup& grp = *ctx.groups[gi];
-        LocationView view;
-        view.planes = &scene.plane_ptr[0];
-        view.plane_of = &grp.plane_of[0];
-        view.delta = &ctx.deltas[gi][0];
-        view.offset = (ptrdiff_t)(r * ctx.S + scene.border) * (ptrdiff_t)scene.plane_step
-            + (c * ctx.S + scene.border);
-        if (ctx.min_labels[gi] > 0)
+        if (s.flat[gi * W + c])
         {
-            const int D = (int)grp.plane_of.size();
-            int labels = 0;
-            for (int j = 0; j < D; ++j)
-                labels += view.value(j) != 0;
-            if (labels < ctx.min_labels[gi])
-            {
-                ++flat;
-                continue;
-            }
+            ++flat;
+            continue;
         }
         // the trees (TemplateForest::query's rule): with reject_any_tree one rejecting tree
-        // rejects, else the location stays while one tree accepts it
+        // rejects, else the location stays while one tree accepts it. The window's values are
+        // gathered for the first tree whose root passes, once for all trees.
         s.leaves.clear();
         int rdepth = -1;
-        bool rejected_any = false;
+        bool rejected_any = false, gathered = false;
+        uchar* values = &s.values[0];
         for (int t = 0; t < ctx.trees[gi]; ++t)
         {
             const int* ids = 0;
-            int n = 0, depth = -1;
-            if (grp.forest->leaf(t, view, ids, n, &depth))
+            int n = 0, depth = 0; // a root rejector that fails rejects at depth 0
+            const bool root_ok = s.root_ok[((size_t)gi * ctx.max_trees + t) * W + c] != 0;
+            if (root_ok && !gathered)
+            {
+                const ptrdiff_t offset = (ptrdiff_t)r * ctx.S * (ptrdiff_t)scene.plane_step
+                    + c * ctx.S;
+                const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
+                for (size_t j = 0; j < ptr.size(); ++j)
+                    values[j] = ptr[j][offset];
+                gathered = true;
+            }
+            if (root_ok && grp.forest->leaf(t, values, ids, n, &depth,
+                                            ctx.roots[gi][t].min_accept > 0))
                 s.leaves.push_back(std::make_pair(ids, n));
             else
             {
@@ -218,12 +320,13 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
 {
     const std::vector<uchar>& allowed = *ctx.row_allowed;
     const int words = (int)s.bits.size();
+    rowTests(ctx, r, W, s);
     for (int c = 0; c < W; ++c)
     {
         ++out.counters.locations;
         int code = DEPTH_RANGE;
         if (!ctx.check_depth || !outOfDepthRange(ctx, c, r))
-            code = visitGroups(ctx, c, r, s);
+            code = visitGroups(ctx, c, r, W, s);
         if (map)
             map->at<short>(r, c) = (short)(code == NOT_SCANNED ? ACCEPTED : code);
         if (code == DEPTH_RANGE)
@@ -270,6 +373,15 @@ static void scanRows(const ScanContext& ctx, const std::vector<int>& which, int 
     parallel_for_(Range(0, (int)which.size()), [&](const Range& range) {
         ScanScratch s;
         s.bits.assign((ctx.index->rows.size() + 63) / 64, 0);
+        size_t D = 1;
+        for (size_t g = 0; g < ctx.dim_ptr.size(); ++g)
+            D = std::max(D, ctx.dim_ptr[g].size());
+        s.values.resize(D);
+        const size_t X = (size_t)(W - 1) * ctx.S + 1;
+        s.count8.resize(X);
+        s.count16.resize(X);
+        s.flat.resize(ctx.groups.size() * W + 1);
+        s.root_ok.resize(ctx.groups.size() * ctx.max_trees * W + 1);
         for (int i = range.start; i < range.end; ++i)
         {
             const int r = which[i];

@@ -56,6 +56,16 @@ void addBlock16(ushort* acc, const uchar* src, size_t stride)
     FORESTMOD_DISPATCH(addBlock16(acc, src, stride));
 }
 
+void countLabels8(uchar* dst, const uchar* src, int n)
+{
+    FORESTMOD_DISPATCH(countLabels8(dst, src, n));
+}
+
+void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok)
+{
+    FORESTMOD_DISPATCH(countAccepted8(dst, src, n, labels, zero_ok));
+}
+
 const char* scoreKernelsPath()
 {
     return useAVX2() ? "AVX2" : "baseline";

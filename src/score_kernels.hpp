@@ -5,10 +5,12 @@
 #ifndef OPENCV_FORESTMOD_SCORE_KERNELS_HPP
 #define OPENCV_FORESTMOD_SCORE_KERNELS_HPP
 
-// The additions of LINEMOD's linearized memories (validator.cpp): OpenCV universal intrinsics,
-// compiled for the baseline and, on x86-64, once more for AVX2 (src/avx2/); the AVX2 code runs
-// when cv::checkHardwareSupport(CV_CPU_AVX2) (false after cv::setUseOptimized(false)). Integer
-// additions: every path gives the same bits.
+// The vectorised kernels of the search: the additions of LINEMOD's linearized memories
+// (validator.cpp) and the scan's tests over a row of locations (scan.cpp). OpenCV universal
+// intrinsics, compiled for the baseline and, on x86-64, once more for AVX2 (src/avx2/); the AVX2
+// code runs when cv::checkHardwareSupport(CV_CPU_AVX2) (false after cv::setUseOptimized(false)).
+// Integer additions: every path gives the same bits. The scan's kernels are exported for the
+// tests.
 
 #include "opencv2/core.hpp"
 
@@ -22,6 +24,13 @@ void addRun8(uchar* dst, const uchar* src, int n);
 void widenAdd(ushort* dst, const uchar* src, int n);
 /** acc[r * 16 + c] += src[r * stride + c] for the 16 x 16 block at src. */
 void addBlock16(ushort* acc, const uchar* src, size_t stride);
+/** dst[0 .. n) += 1 where src != 0, 8-bit with wrap-around (the caller keeps the counts under
+256): the scan's flat-window test over a row of locations. */
+CV_EXPORTS void countLabels8(uchar* dst, const uchar* src, int n);
+/** dst[0 .. n) += 1 where a rejector dimension accepts src: (src & labels) != 0 for a label,
+zero_ok for the value 0 (rejector.hpp's look-up); 8-bit with wrap-around as countLabels8. */
+CV_EXPORTS void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels,
+                               uchar zero_ok);
 /** The instruction set the kernels run with on this machine now ("AVX2" or "baseline"). */
 CV_EXPORTS const char* scoreKernelsPath();
 

@@ -25,6 +25,8 @@ namespace FORESTMOD_KERNELS_NAMESPACE {
 void addRun8(uchar* dst, const uchar* src, int n);
 void widenAdd(ushort* dst, const uchar* src, int n);
 void addBlock16(ushort* acc, const uchar* src, size_t stride);
+void countLabels8(uchar* dst, const uchar* src, int n);
+void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok);
 
 #ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
@@ -69,6 +71,38 @@ void addBlock16(ushort* acc, const uchar* src, size_t stride)
         for (; c < 16; ++c)
             acc[c] = (ushort)(acc[c] + src[c]);
     }
+}
+
+void countLabels8(uchar* dst, const uchar* src, int n)
+{
+    int k = 0;
+#if CV_SIMD
+    const int w = v_uint8::nlanes;
+    const v_uint8 z = vx_setzero_u8();
+    for (; k <= n - w; k += w) // a lane of all ones (-1) where src != 0: subtracting it adds 1
+        v_store(dst + k, v_sub_wrap(vx_load(dst + k), vx_load(src + k) != z));
+#endif
+    for (; k < n; ++k)
+        dst[k] = (uchar)(dst[k] + (src[k] != 0));
+}
+
+void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok)
+{
+    int k = 0;
+#if CV_SIMD
+    const int w = v_uint8::nlanes;
+    const v_uint8 z = vx_setzero_u8(), m = vx_setall_u8(labels);
+    const v_uint8 zm = vx_setall_u8(zero_ok ? (uchar)255 : (uchar)0);
+    for (; k <= n - w; k += w)
+    {
+        const v_uint8 v = vx_load(src + k);
+        // (v & labels) != 0 is false where v == 0: there the value 0's entry decides
+        const v_uint8 acc = ((v & m) != z) | ((v == z) & zm);
+        v_store(dst + k, v_sub_wrap(vx_load(dst + k), acc));
+    }
+#endif
+    for (; k < n; ++k)
+        dst[k] = (uchar)(dst[k] + (src[k] ? (src[k] & labels) != 0 : zero_ok != 0));
 }
 
 #endif // FORESTMOD_KERNELS_DECLARATIONS_ONLY

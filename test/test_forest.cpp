@@ -461,6 +461,87 @@ TEST(Forestmod_TemplateForest, write_read_same_traversal)
     EXPECT_LT(accepted, 1000);
 }
 
+// The scan's path (leaf() on a gathered row, vectorised node tests; rootRejector() tested by the
+// caller) reaches the same leaf, or rejects at the same depth, as queryTree() on every tree, for a
+// trained forest and the same forest read back.
+TEST(Forestmod_TemplateForest, leaf_of_a_row_equals_query_tree)
+{
+    std::vector<int> zeros(4096, 0), identity(4096);
+    for (int j = 0; j < 4096; ++j)
+        identity[j] = j;
+    const uchar* plane = 0;
+    auto view = [&](const uchar* row) {
+        plane = row;
+        LocationView v;
+        v.planes = &plane;
+        v.plane_of = &zeros[0];
+        v.delta = &identity[0];
+        v.offset = 0;
+        return v;
+    };
+    ForestParams p;
+    p.num_trees = 3;
+    Data d = makeData(1000, 2, 73, p); // 2 objects: the roots have rejectors (4 do not)
+    Ptr<TemplateForest> trained = TemplateForest::create(p);
+    trained->train(d.desc, d.fg);
+    const std::string path = cv::tempfile(".yml.gz");
+    trained->save(path);
+    Ptr<TemplateForest> read = TemplateForest::load(path);
+    remove(path.c_str());
+    Mat queries;
+    vconcat(uniformBackground(400, d.desc.cols, 5), realPatches(400, 6), queries);
+    vconcat(queries, d.noisy.rowRange(0, 400), queries);
+    int reached[2] = { 0, 0 }, root_rejected = 0;
+    for (const Ptr<TemplateForest>& f : { trained, read })
+        for (int t = 0; t < p.num_trees; ++t)
+        {
+            std::vector<int> dims;
+            std::vector<ushort> accepted;
+            int min_accept = -1;
+            const bool has_root = f->rootRejector(t, dims, accepted, min_accept);
+            ASSERT_EQ(has_root, min_accept > 0);
+            ASSERT_EQ(dims.size(), accepted.size());
+            for (int i = 0; i < queries.rows; ++i)
+            {
+                const uchar* q = queries.ptr<uchar>(i);
+                std::vector<int> expected;
+                int depth = -2;
+                const bool ok = f->queryTree(t, view(q), expected, &depth);
+                // the root's rejector, as the scan tests it
+                int acc = 0;
+                for (size_t k = 0; k < dims.size(); ++k)
+                    acc += q[dims[k]] ? (accepted[k] & q[dims[k]]) != 0 : (accepted[k] >> 8) & 1;
+                const bool root_ok = !has_root || acc >= min_accept;
+                if (!root_ok)
+                {
+                    ++root_rejected;
+                    ASSERT_FALSE(ok) << "tree " << t << " query " << i;
+                    ASSERT_EQ(0, depth) << "tree " << t << " query " << i;
+                    continue;
+                }
+                for (int passed = 0; passed < 2; ++passed)
+                {
+                    const int* ids = 0;
+                    int n = -1, leaf_depth = -2;
+                    const bool leaf_ok = f->leaf(t, q, ids, n, &leaf_depth, passed == 1);
+                    ASSERT_EQ(ok, leaf_ok) << "tree " << t << " query " << i;
+                    ASSERT_EQ(depth, leaf_depth) << "tree " << t << " query " << i;
+                    if (ok)
+                    {
+                        ASSERT_EQ(expected, std::vector<int>(ids, ids + n)) << "query " << i;
+                    }
+                }
+                reached[ok ? 1 : 0]++;
+            }
+        }
+    // every outcome exercised: rejected at the root, deeper, and leaves reached
+    std::cout << "root rejected " << root_rejected << ", rejected deeper " << reached[0]
+              << ", leaves reached " << reached[1] << std::endl;
+    EXPECT_GT(root_rejected, 100);
+    EXPECT_GT(reached[0], 10);
+    EXPECT_GT(reached[1], 100);
+}
+
 TEST(Forestmod_TemplateForest, refuses_bad_files)
 {
     ForestParams p;

@@ -386,6 +386,12 @@ TEST(Forestmod_HostileInputs, bad_ply_files_are_refused_with_the_problem_named)
     bad.insert(bad.find("end_header"), "\r\r\r");
     err = meshError(bad);
     EXPECT_NE(std::string::npos, err.find("holds the control character 13")) << err;
+    // a header that ends the file without a line end, an element without properties (fuzz
+    // finding: assimp 5.2 reads forever on "element aaaaaaaaa 4\nend_header" at the end)
+    err = meshError("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nend_header");
+    EXPECT_NE(std::string::npos, err.find("ends without a line break")) << err;
+    err = meshError("ply\nformat ascii 1.0\nelement extra 4\nend_header\n");
+    EXPECT_NE(std::string::npos, err.find("element 'extra' declares no property")) << err;
 
     // degenerate and absurd geometry
     std::vector<Point3f> zero(4, Point3f(0, 0, 0));

@@ -206,6 +206,32 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
         for (int k = 0; k < 256; ++k)
             ASSERT_EQ(local[0][k], local[1][k]) << "f " << f << " local " << k;
     }
+    // the scan's row kernels, on every value a label plane holds, odd lengths
+    std::vector<uchar> src(1001), out[2][2];
+    for (size_t k = 0; k < src.size(); ++k)
+        src[k] = k % 7 == 0 ? 0 : (uchar)(1 << rng.uniform(0, 8));
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        setUseOptimized(pass == 0);
+        out[pass][0].assign(src.size(), 3);
+        out[pass][1].assign(src.size(), 5);
+        for (int n : { 1001, 17, 0 })
+        {
+            countLabels8(&out[pass][0][0], &src[0], n);
+            countAccepted8(&out[pass][1][0], &src[0], n, 0x25, 0);
+            countAccepted8(&out[pass][1][0], &src[0], n, 0x80, 1);
+        }
+    }
+    setUseOptimized(was_optimized);
+    for (size_t k = 0; k < src.size(); ++k)
+    {
+        const int times = 1 + (k < 17);
+        ASSERT_EQ(3 + times * (src[k] != 0), out[0][0][k]) << k;
+        const int accepted = ((src[k] & 0x25) != 0) + (src[k] == 0 || src[k] == 0x80);
+        ASSERT_EQ(5 + times * accepted, out[0][1][k]) << k;
+        ASSERT_EQ(out[0][0][k], out[1][0][k]) << k;
+        ASSERT_EQ(out[0][1][k], out[1][1][k]) << k;
+    }
     std::cout << "score kernels: " << scoreKernelsPath() << std::endl;
 }
 

@@ -200,12 +200,20 @@ public:
     @p candidates (in leaf order), or false when a rejector of this tree sends the location out. */
     virtual bool queryTree(int tree, const LocationView& view, std::vector<int>& candidates,
                            int* rejected_depth = 0) const = 0;
-    /** @brief Traverses one tree without copying (the scan's fast path): @p ids and @p count
-    receive the reached leaf's templates (ascending, valid while the forest is unchanged), or
-    false when a rejector of this tree sends the location out. No check of @p tree: 0 <= tree <
-    getParams().num_trees is the caller's. */
-    virtual bool leaf(int tree, const LocationView& view, const int*& ids, int& count,
-                      int* rejected_depth = 0) const = 0;
+    /** @brief Traverses one tree without copying (the scan's fast path, node tests vectorised):
+    @p values are the location's dims() descriptor values in one row (gathered once per location,
+    shared by the trees); @p ids and @p count receive the reached leaf's templates (ascending,
+    valid while the forest is unchanged), or false when a rejector of this tree sends the location
+    out. @p root_passed: the caller has tested rootRejector() on this location already (it
+    passed). No check of @p tree: 0 <= tree < getParams().num_trees is the caller's. */
+    virtual bool leaf(int tree, const uchar* values, const int*& ids, int& count,
+                      int* rejected_depth = 0, bool root_passed = false) const = 0;
+    /** @brief The background rejector of tree @p tree's root, which every location meets first
+    (the scan tests it on a whole row of locations at once, vectorised): its dimensions, for each
+    the accepted values (bits 0..7: labels, bit 8: the value 0) and the minimum number of accepted
+    dimensions. Returns false (and leaves the outputs empty) when the root has no rejector. */
+    virtual bool rootRejector(int tree, std::vector<int>& dims, std::vector<ushort>& accepted,
+                              int& min_accept) const = 0;
     /** @overload Convenience for one descriptor row of dims() values. */
     bool query(const uchar* descriptor, std::vector<int>& candidates, int* rejected_depth = 0,
                ForestQueryStats* stats = 0) const;
