@@ -79,21 +79,28 @@ public:
         return (uchar)buf_[pos_++];
     }
 
-    // the next whitespace-separated token (its first 64 characters); false at the end
+    // the next whitespace-separated token (its first 64 characters); false at the end.
+    // newlineBefore(): a line ended between it and the previous token (or the header).
     bool token(std::string& tok)
     {
         tok.clear();
+        newline_before_ = newline_pending_;
         int c = next();
         while (c >= 0 && std::isspace(c))
+        {
+            newline_before_ = newline_before_ || c == '\n';
             c = next();
+        }
         while (c >= 0 && !std::isspace(c))
         {
             if (tok.size() < 64)
                 tok += (char)c;
             c = next();
         }
+        newline_pending_ = c == '\n';
         return !tok.empty();
     }
+    bool newlineBefore() const { return newline_before_; }
 
     // the next n <= 8 bytes into bytes(); false at the end
     bool read(int n)
@@ -115,6 +122,7 @@ private:
     std::vector<char> buf_;
     size_t pos_ = 0, len_ = 0;
     bool eof_ = false;
+    bool newline_pending_ = true, newline_before_ = false; // the header ends with its line
     uchar bytes_[8] = { 0, 0, 0, 0, 0, 0, 0, 0 };
 };
 
@@ -327,8 +335,15 @@ static void notANumber(const String& path, const PlyElement& el, int64 r, const 
 // One property of element `r` walked; false when the data ended first. ASCII: whitespace-
 // separated values, a list's count first; binary: fixed sizes, list counts in the file's byte
 // order.
+static void notOneLine(const String& path, const PlyElement& el, int64 r)
+{
+    CV_Error_(Error::StsParseError, ("Mesh::load: '%s': PLY '%s' %lld is not one line of its "
+                                     "values (an ASCII element is a line: assimp reads line by "
+                                     "line)", path.c_str(), el.name.c_str(), (long long)r));
+}
+
 static bool walkProperty(PlyData& data, int format, const PlyElement& el, const PlyProperty& pr,
-                         int64 r, const String& path)
+                         int64 r, bool first, const String& path)
 {
     std::string tok;
     long long items = 1;
@@ -336,6 +351,10 @@ static bool walkProperty(PlyData& data, int format, const PlyElement& el, const 
     {
         if (!data.token(tok))
             return false;
+        // one line per element (fuzz_mesh_load: vertices spread over lines made assimp 5.2 read
+        // a face's count of -23 and allocate 32 GB)
+        if (data.newlineBefore() != first)
+            notOneLine(path, el, r);
         if (!plyNumber(tok, pr.list || pr.integral, pr.list ? &items : 0, pr.list ? 0 : pr.size))
             notANumber(path, el, r, tok);
         if (!pr.list && !pr.integral && !(std::abs(std::strtod(tok.c_str(), 0)) <= MAX_PLY_REAL))
@@ -368,6 +387,8 @@ static bool walkProperty(PlyData& data, int format, const PlyElement& el, const 
         }
         else if (!data.token(tok))
             return false;
+        else if (data.newlineBefore())
+            notOneLine(path, el, r);
         else if (!plyNumber(tok, pr.integral, 0, pr.size))
             notANumber(path, el, r, tok);
     }
@@ -394,7 +415,7 @@ void checkPly(const String& path)
         const PlyElement& el = h.elements[e];
         for (int64 r = 0; r < el.count; ++r)
             for (size_t k = 0; k < el.props.size(); ++k)
-                if (!walkProperty(data, h.format, el, el.props[k], r, path))
+                if (!walkProperty(data, h.format, el, el.props[k], r, k == 0, path))
                     CV_Error_(Error::StsParseError,
                               ("Mesh::load: '%s' is truncated: the PLY header declares %lld "
                                "'%s' elements, the data ends in element %lld (%lld bytes of "

@@ -393,6 +393,17 @@ TEST(Forestmod_HostileInputs, bad_ply_files_are_refused_with_the_problem_named)
     err = meshError("ply\nformat ascii 1.0\nelement extra 4\nend_header\n");
     EXPECT_NE(std::string::npos, err.find("element 'extra' declares no property")) << err;
 
+    // an ASCII element over several lines, or two on one line (fuzz finding: assimp 5.2 reads
+    // line by line and took a coordinate for a face's count of -23: 32 GB)
+    bad = plyAscii(v, f);
+    bad.replace(bad.find("40 0 0"), 6, "40 0\n0");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("PLY 'vertex' 1 is not one line of its values")) << err;
+    bad = plyAscii(v, f);
+    bad.replace(bad.rfind("\n3 "), 1, " ");
+    err = meshError(bad);
+    EXPECT_NE(std::string::npos, err.find("is not one line of its values")) << err;
+
     // degenerate and absurd geometry
     std::vector<Point3f> zero(4, Point3f(0, 0, 0));
     err = meshError(plyAscii(zero, f)); // assimp joins them: triangles on one vertex
