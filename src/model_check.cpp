@@ -240,6 +240,81 @@ static void checkBrackets(const std::string& text, const String& filename)
                                          quote ? "a string is open" : "a bracket is open"));
 }
 
+// YAML block structure: a line indented less than the line before it returns to the indentation
+// of a block still open (OpenCV 4.6's parser loops forever on a dedent to a level that no block
+// opened: found by fuzzing). Block scalars ("|", the base64 data) and flow collections that span
+// lines are skipped; XML and JSON are left to their parsers.
+static void checkYamlIndentation(const std::string& text, const String& filename)
+{
+    const size_t first = text.find_first_not_of(" \t\r\n");
+    if (first == std::string::npos || text[first] == '<' || text[first] == '{')
+        return;
+    std::vector<int> open;   // indentations of the blocks still open
+    int scalar = -1;         // inside a block scalar opened at this indentation
+    int flow = 0;            // brackets open at the start of the line
+    int line_no = 0;
+    for (size_t b = 0; b < text.size(); ++line_no)
+    {
+        size_t e = text.find('\n', b);
+        if (e == std::string::npos)
+            e = text.size();
+        const size_t c = text.find_first_not_of(" ", b);
+        const int indent = (int)(std::min(c, e) - b);
+        const bool blank = c >= e || text[c] == '\r' || text[c] == '#' || text[c] == '%'
+            || text.compare(c, 3, "---") == 0 || text.compare(c, 3, "...") == 0;
+        if (!blank && scalar >= 0 && indent <= scalar)
+            scalar = -1;
+        if (!blank && scalar < 0 && flow == 0)
+        {
+            bool closed = false;
+            while (!open.empty() && open.back() > indent)
+            {
+                open.pop_back();
+                closed = true;
+            }
+            if (open.empty() || open.back() < indent)
+            {
+                if (closed)
+                    CV_Error_(Error::StsParseError,
+                              ("forestmod::Detector::load: '%s' is corrupt: line %d is indented "
+                               "to a level no enclosing YAML block has", filename.c_str(),
+                               line_no + 1));
+                open.push_back(indent);
+            }
+        }
+        if (!blank && scalar < 0)
+        {
+            // brackets of the line outside quotes and comments; a block scalar starts after '|'
+            char quote = 0;
+            size_t last = e;
+            for (size_t i = c; i < e; ++i)
+            {
+                const char ch = text[i];
+                if (quote)
+                {
+                    if (ch == '\\' && quote == '"')
+                        ++i;
+                    else if (ch == quote)
+                        quote = 0;
+                }
+                else if (ch == '"' || ch == '\'')
+                    quote = ch;
+                else if (ch == '#' && std::isspace((uchar)text[i - 1]))
+                    break;
+                else if (ch == '[' || ch == '{')
+                    ++flow;
+                else if (ch == ']' || ch == '}')
+                    flow = std::max(0, flow - 1);
+                if (!std::isspace((uchar)ch))
+                    last = i;
+            }
+            if (last < e && text[last] == '|' && flow == 0)
+                scalar = indent;
+        }
+        b = e + 1;
+    }
+}
+
 String readModelText(const String& filename)
 {
     std::string text;
@@ -290,6 +365,7 @@ String readModelText(const String& filename)
     checkBase64Blocks(text, filename);
     checkYamlDirective(text, filename);
     checkBrackets(text, filename);
+    checkYamlIndentation(text, filename);
     return text;
 }
 

@@ -589,6 +589,10 @@ TEST(Forestmod_HostileInputs, model_file_brackets)
     EXPECT_NE(std::string::npos,
               loadError(mutate(text, "%YAML:1.0", "%YAML:1.0 - [ 7 ]")).find("directive alone"));
     EXPECT_EQ("", loadError(mutate(text, "%YAML:1.0", "%YAML:1.0  ")));
+    // a dedent to a level no block opened (fuzz finding: OpenCV 4.6's parser loops forever)
+    EXPECT_NE(std::string::npos,
+              loadError("%YAML:1.0\n      - [ 10, 1, 4 ]\n   -\n      templates:\n")
+                  .find("line 3 is indented to a level no enclosing YAML block has"));
 
     const char* formats[] = { ".yml", ".json", ".xml" };
     for (int f = 0; f < 3; ++f)
