@@ -260,8 +260,16 @@ static void checkYamlIndentation(const std::string& text, const String& filename
             e = text.size();
         const size_t c = text.find_first_not_of(" ", b);
         const int indent = (int)(std::min(c, e) - b);
-        const bool blank = c >= e || text[c] == '\r' || text[c] == '#' || text[c] == '%'
-            || text.compare(c, 3, "---") == 0 || text.compare(c, 3, "...") == 0;
+        const bool marker = c == b && (text.compare(c, 3, "---") == 0
+                                       || text.compare(c, 3, "...") == 0);
+        // a document marker stands alone, as cv::FileStorage writes it (fuzz_model_load: the
+        // parser looped forever on a sequence after "..." on the same line)
+        if (marker && text.find_first_not_of(" \r", c + 3) < e)
+            CV_Error_(Error::StsParseError,
+                      ("forestmod::Detector::load: '%s' is corrupt: line %d holds more than the "
+                       "YAML document marker '%s'", filename.c_str(), line_no + 1,
+                       text.substr(c, 3).c_str()));
+        const bool blank = c >= e || text[c] == '\r' || text[c] == '#' || text[c] == '%' || marker;
         if (!blank && scalar >= 0 && indent <= scalar)
             scalar = -1;
         if (!blank && scalar < 0 && flow == 0)

@@ -593,6 +593,9 @@ TEST(Forestmod_HostileInputs, model_file_brackets)
     EXPECT_NE(std::string::npos,
               loadError("%YAML:1.0\n      - [ 10, 1, 4 ]\n   -\n      templates:\n")
                   .find("line 3 is indented to a level no enclosing YAML block has"));
+    EXPECT_NE(std::string::npos,
+              loadError("%YAML:1.0\n   T: 1\n...      - [ 35, 15, 0 ]\n")
+                  .find("line 3 holds more than the YAML document marker '...'"));
 
     const char* formats[] = { ".yml", ".json", ".xml" };
     for (int f = 0; f < 3; ++f)
