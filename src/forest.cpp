@@ -291,9 +291,11 @@ static void splitLookups(Tree& t)
 // The node tests on a gathered descriptor row (the scan's path), vectorised 16 dims at a time:
 // the same counts as valuesAgree / rejectorPasses dimension by dimension.
 #if CV_SIMD128
-static inline v_uint8x16 gather16(const uchar* values, const int* dims)
+// lanes of a comparison mask (0 or 255) that are set
+static inline int setLanes(const v_uint8x16& mask)
 {
-    return v_lut(values, dims);
+    const v_uint8x16 a = mask & v_setall_u8(1);
+    return (int)(v_reduce_sum(v_expand_low(a)) + v_reduce_sum(v_expand_high(a)));
 }
 #endif
 
@@ -302,13 +304,12 @@ static inline int disagreements(const uchar* values, const int* dims, const ucha
 {
     int agree = 0, k = 0;
 #if CV_SIMD128
-    const v_uint8x16 z = v_setzero_u8(), one = v_setall_u8(1);
+    const v_uint8x16 z = v_setzero_u8();
     for (; k <= n - 16; k += 16)
     {
-        const v_uint8x16 v = gather16(values, dims + k), e = v_load(ev + k);
+        const v_uint8x16 v = v_lut(values, dims + k), e = v_load(ev + k);
         // valuesAgree: e == 0 ? v == 0 : (e & v) != 0; (e & v) is 0 where e is
-        const v_uint8x16 a = ((e == z) & (v == z)) | ((e & v) != z);
-        agree += (int)v_reduce_sum(v_expand_low(a & one)) + (int)v_reduce_sum(v_expand_high(a & one));
+        agree += setLanes(((e == z) & (v == z)) | ((e & v) != z));
     }
 #endif
     for (; k < n; ++k)
@@ -325,13 +326,11 @@ static inline bool rowPasses(const Tree& t, const Node& nd, const uchar* values)
     const int n = nd.rej_count, need = nd.rej_min;
     int accepted = 0, k = 0;
 #if CV_SIMD128
-    const v_uint8x16 z = v_setzero_u8(), one = v_setall_u8(1);
+    const v_uint8x16 z = v_setzero_u8();
     for (; k <= n - 16; k += 16)
     {
-        const v_uint8x16 v = gather16(values, dims + k);
-        const v_uint8x16 a = ((v & v_load(labels + k)) != z) | ((v == z) & v_load(zero + k));
-        accepted += (int)v_reduce_sum(v_expand_low(a & one))
-            + (int)v_reduce_sum(v_expand_high(a & one));
+        const v_uint8x16 v = v_lut(values, dims + k);
+        accepted += setLanes(((v & v_load(labels + k)) != z) | ((v == z) & v_load(zero + k)));
         if (accepted >= need)
             return true;
         if (accepted + (n - k - 16) < need)
