@@ -198,6 +198,26 @@ static void checkYamlDirective(const std::string& text, const String& filename)
                                          filename.c_str()));
 }
 
+// Quoted strings of YAML and JSON text: the quote state after text[i], given the state before it
+// (0: outside a string, else the quote character). A '"' opens a string, and in YAML a single
+// quote where a scalar starts; inside a "..." string a backslash escapes the next character
+// (i moves past it).
+static char quoteState(const std::string& text, size_t& i, char quote, bool yaml)
+{
+    const char c = text[i];
+    if (quote)
+    {
+        if (c == '\\' && quote == '"')
+            ++i;
+        else if (c == quote)
+            return 0;
+        return quote;
+    }
+    if (c == '"' || (yaml && c == '\'' && (i == 0 || std::strchr(" \t\n[{,:", text[i - 1]))))
+        return c;
+    return 0;
+}
+
 // YAML and JSON text: every '[' and '{' outside quoted strings and comments closed by its own
 // bracket, none left open at the end (see readModelText). XML is left to its parser.
 static void checkBrackets(const std::string& text, const String& filename)
@@ -211,17 +231,11 @@ static void checkBrackets(const std::string& text, const String& filename)
     for (size_t i = first; i < text.size(); ++i)
     {
         const char c = text[i];
-        if (quote)
-        {
-            if (c == '\\' && quote == '"')
-                ++i;
-            else if (c == quote)
-                quote = 0;
+        const bool quoted = quote != 0;
+        quote = quoteState(text, i, quote, yaml);
+        if (quoted || quote)
             continue;
-        }
-        if (c == '"' || (yaml && c == '\'' && (i == 0 || std::strchr(" \t\n[{,:", text[i - 1]))))
-            quote = c; // a YAML single quote opens a string only where a scalar starts
-        else if (yaml && c == '#' && (i == 0 || std::isspace((uchar)text[i - 1])))
+        if (yaml && c == '#' && (i == 0 || std::isspace((uchar)text[i - 1])))
             i = std::min(text.find('\n', i), text.size()); // a comment, to the end of its line
         else if (c == '[' || c == '{')
             open.push_back(c);
@@ -298,21 +312,17 @@ static void checkYamlIndentation(const std::string& text, const String& filename
             for (size_t i = c; i < e; ++i)
             {
                 const char ch = text[i];
-                if (quote)
+                const bool quoted = quote != 0;
+                quote = quoteState(text, i, quote, true);
+                if (!quoted && !quote)
                 {
-                    if (ch == '\\' && quote == '"')
-                        ++i;
-                    else if (ch == quote)
-                        quote = 0;
+                    if (ch == '#' && std::isspace((uchar)text[i - 1]))
+                        break;
+                    if (ch == '[' || ch == '{')
+                        ++flow;
+                    else if (ch == ']' || ch == '}')
+                        flow = std::max(0, flow - 1);
                 }
-                else if (ch == '"' || ch == '\'')
-                    quote = ch;
-                else if (ch == '#' && std::isspace((uchar)text[i - 1]))
-                    break;
-                else if (ch == '[' || ch == '{')
-                    ++flow;
-                else if (ch == ']' || ch == '}')
-                    flow = std::max(0, flow - 1);
                 if (!std::isspace((uchar)ch))
                     last = i;
             }
