@@ -431,15 +431,26 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
     }
     else if (!sample.empty())
     {
-        scanRows(ctx, sample, W, map, rows, &pairs);
+        // in two halves: a group whose pairs on the first half alone pass the limit goes to the
+        // exhaustive search whatever the second half holds (its count only grows), so the second
+        // half skips it; the decisions are those of the whole sample
+        std::vector<int> halves[2];
+        for (size_t i = 0; i < sample.size(); ++i)
+            halves[i % 2].push_back(sample[i]);
         const double scale = (double)H / sample.size();
-        for (int g = 0; g < NG; ++g)
+        std::vector<int64> p(NG, 0);
+        for (int h = 0; h < 2; ++h)
         {
-            int64 p = 0;
-            for (size_t i = 0; i < sample.size(); ++i)
-                p += pairs[sample[i]][g];
-            if (p * scale > ratio * (double)templates[g] * positions)
-                ctx.active[g] = 0;
+            if (halves[h].empty())
+                continue;
+            scanRows(ctx, halves[h], W, map, rows, &pairs);
+            for (int g = 0; g < NG; ++g)
+            {
+                for (size_t i = 0; i < halves[h].size(); ++i)
+                    p[g] += pairs[halves[h][i]][g];
+                if (p[g] * scale > ratio * (double)templates[g] * positions)
+                    ctx.active[g] = 0;
+            }
         }
     }
     if (ratio >= 0.f)
