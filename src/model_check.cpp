@@ -272,6 +272,15 @@ static void checkYamlIndentation(const std::string& text, const String& filename
         size_t e = text.find('\n', b);
         if (e == std::string::npos)
             e = text.size();
+        // a CR only as part of a line end (fuzz_model_load: OpenCV 4.6's parser looped forever on
+        // a lone CR after a block scalar's '|' inside a flow sequence)
+        const size_t cr = (size_t)(std::find(text.begin() + b, text.begin() + e, '\r')
+                                   - text.begin());
+        if (cr + 1 < e)
+            CV_Error_(Error::StsParseError,
+                      ("forestmod::Detector::load: '%s' is corrupt: line %d holds a carriage "
+                       "return inside it (lines end with \\n or \\r\\n)", filename.c_str(),
+                       line_no + 1));
         const size_t c = text.find_first_not_of(" ", b);
         const int indent = (int)(std::min(c, e) - b);
         const bool marker = c == b && (text.compare(c, 3, "---") == 0

@@ -596,6 +596,9 @@ TEST(Forestmod_HostileInputs, model_file_brackets)
     EXPECT_NE(std::string::npos,
               loadError("%YAML:1.0\n   T: 1\n...      - [ 35, 15, 0 ]\n")
                   .find("line 3 holds more than the YAML document marker '...'"));
+    EXPECT_NE(std::string::npos, loadError(mutate(text, "pyramid_levels: 2", "pyramid_levels:\r 2"))
+                                     .find("holds a carriage return inside it"));
+    EXPECT_EQ("", loadError(mutate(text, "pyramid_levels: 2", "pyramid_levels: 2\r")));
 
     const char* formats[] = { ".yml", ".json", ".xml" };
     for (int f = 0; f < 3; ++f)
