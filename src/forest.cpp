@@ -784,27 +784,14 @@ public:
               bool root_passed) const CV_OVERRIDE
     {
         const Tree& t = trees_[tree];
-        const Node* nodes = &t.nodes[0];
-        int ni = 0;
-        for (;;)
-        {
-            const Node& nd = nodes[ni];
-            if (nd.rej_min > 0 && !(ni == 0 && root_passed) && !rowPasses(t, nd, values))
-            {
-                if (rejected_depth)
-                    *rejected_depth = nd.depth;
-                return false;
-            }
-            if (nd.left < 0)
-                break;
-            const int d = disagreements(values, &t.split_dims[nd.split_begin],
-                                        &t.split_vals[nd.split_begin], dsplit_);
-            ni = (float)d < nd.tau ? nd.left : nd.right;
-        }
+        int depth = -1, visited = 0;
+        const int ni = descend(t, RowTests(values), depth, visited, root_passed);
+        if (rejected_depth)
+            *rejected_depth = ni < 0 ? depth : -1;
+        if (ni < 0)
+            return false;
         ids = &t.leaf_ids[t.nodes[ni].leaf_begin];
         count = t.nodes[ni].leaf_count;
-        if (rejected_depth)
-            *rejected_depth = -1;
         return true;
     }
 
@@ -967,7 +954,7 @@ private:
     bool traverse(const Tree& t, const LocationView& view, std::vector<int>& candidates,
                   int& rejected_depth, int& visited) const
     {
-        const int ni = descend(t, view, rejected_depth, visited);
+        const int ni = descend(t, ViewTests(view), rejected_depth, visited);
         if (ni < 0)
             return false;
         const int* ids = &t.leaf_ids[t.nodes[ni].leaf_begin];
@@ -975,9 +962,48 @@ private:
         return true;
     }
 
+    /** The node tests on a LocationView, dimension by dimension. */
+    struct ViewTests
+    {
+        const LocationView& view;
+        explicit ViewTests(const LocationView& v) : view(v) {}
+        bool passes(const Tree& t, const Node& nd) const
+        {
+            RejectorRef r;
+            r.dims = &t.rej_dims[nd.rej_begin];
+            r.lut = &t.rej_lut[nd.rej_begin];
+            r.count = nd.rej_count;
+            r.min_accept = nd.rej_min;
+            return detail::rejectorPasses(r, view);
+        }
+        int distance(const Tree& t, const Node& nd, int n) const
+        {
+            const int* dims = &t.split_dims[nd.split_begin];
+            const uchar* ev = &t.split_vals[nd.split_begin];
+            int d = 0;
+            for (int k = 0; k < n; ++k)
+                d += !valuesAgree(ev[k], view.value(dims[k]));
+            return d;
+        }
+    };
+    /** The node tests on a gathered row, 16 dimensions at a time (the scan's path). */
+    struct RowTests
+    {
+        const uchar* values;
+        explicit RowTests(const uchar* v) : values(v) {}
+        bool passes(const Tree& t, const Node& nd) const { return rowPasses(t, nd, values); }
+        int distance(const Tree& t, const Node& nd, int n) const
+        {
+            return disagreements(values, &t.split_dims[nd.split_begin],
+                                 &t.split_vals[nd.split_begin], n);
+        }
+    };
+
     /** One tree down to its leaf: the leaf's node index, or -1 with the depth of the rejecting
-    node. */
-    int descend(const Tree& t, const LocationView& view, int& rejected_depth, int& visited) const
+    node. `root_passed`: the root's rejector is known to pass. */
+    template <class Tests>
+    int descend(const Tree& t, const Tests& tests, int& rejected_depth, int& visited,
+                bool root_passed = false) const
     {
         const Node* nodes = &t.nodes[0];
         int ni = 0;
@@ -985,27 +1011,14 @@ private:
         {
             const Node& nd = nodes[ni];
             ++visited;
-            if (nd.rej_min > 0)
+            if (nd.rej_min > 0 && !(ni == 0 && root_passed) && !tests.passes(t, nd))
             {
-                RejectorRef r;
-                r.dims = &t.rej_dims[nd.rej_begin];
-                r.lut = &t.rej_lut[nd.rej_begin];
-                r.count = nd.rej_count;
-                r.min_accept = nd.rej_min;
-                if (!detail::rejectorPasses(r, view))
-                {
-                    rejected_depth = nd.depth;
-                    return -1;
-                }
+                rejected_depth = nd.depth;
+                return -1;
             }
             if (nd.left < 0)
                 return ni;
-            const int* dims = &t.split_dims[nd.split_begin];
-            const uchar* ev = &t.split_vals[nd.split_begin];
-            int d = 0;
-            for (int k = 0; k < dsplit_; ++k)
-                d += !valuesAgree(ev[k], view.value(dims[k]));
-            ni = (float)d < nd.tau ? nd.left : nd.right;
+            ni = (float)tests.distance(t, nd, dsplit_) < nd.tau ? nd.left : nd.right;
         }
     }
 
