@@ -186,7 +186,7 @@ PERF_TEST_P(Forestmod_ScenePyramid, quantize_spread_response,
 }
 
 // What match() computes of a frame before the forest (T_quant without the refinement tiles):
-// quantizeScene (the coarsest level quantized, spread and turned into response maps; the finer
+// quantizeScene (the coarsest level quantized and spread; the finer
 // levels of the colour modalities are left to the tiles, the depth normals quantized whole),
 // forestPlanes, and for RGB-D depthContexts; IMPL_LINEMOD: cv::linemod's quantization of the same
 // modalities (process + quantize + pyrDown + quantize: forestmod_eval's T_quant of cv::linemod).
@@ -223,7 +223,7 @@ PERF_TEST_P(Forestmod_ScenePyramid, scene,
     {
         ASSERT_EQ(2u, scene.levels.size());
         ASSERT_EQ((size_t)M, scene.planes.size());
-        ASSERT_GT(countNonZero(scene.coarsest().response[0][0]), 0);
+        ASSERT_GT(countNonZero(scene.coarsest().spread[0]), 0);
     }
     else
     {
@@ -235,8 +235,9 @@ PERF_TEST_P(Forestmod_ScenePyramid, scene,
 typedef tuple<Size, SceneKind, int, int> TileParams;
 typedef TestBaseWithParam<TileParams> Forestmod_ScenePyramid_tiles;
 
-// The level-0 quantized images (colour modalities), spread and response maps that refinement
-// reads, computed on demand: `regions`
+// The level-0 quantized images (colour modalities) and spread images that refinement reads,
+// computed on demand (the refinement's linearized memories are built from them: perf_validation):
+// `regions`
 // regions of 240 x 240 pixels (16 cells of T = 5 and a template of 160 pixels: one refined
 // match) spread over the frame, or the whole frame (0).
 PERF_TEST_P(Forestmod_ScenePyramid_tiles, refinement_tiles,

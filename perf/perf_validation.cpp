@@ -78,11 +78,9 @@ PERF_TEST_P(Forestmod_Validation, per_candidate,
     level.pad = 0;
     level.quantized.resize(1);
     level.spread.resize(1);
-    level.response.resize(1);
     gradient->process(img)->quantize(level.quantized[0]);
     level.size = level.quantized[0].size();
     spreadLabelsFast(level.quantized[0], level.spread[0], kT, 0);
-    computeResponseMapsFast(level.spread[0], level.response[0]);
 
     int64 triples = 0;
     if (path == PATH_SCATTERED)

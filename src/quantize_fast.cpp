@@ -1354,6 +1354,10 @@ void orRows(const uchar* first, size_t step, int n, int cols, uchar* d)
     }
 }
 
+} // namespace
+
+namespace {
+
 // response[o] = 4 - (circular distance from o to the nearest label present), 0 beyond 3: the
 // number of the nested label sets {o}, {o, o+-1}, {o..o+-2}, {o..o+-3} that meet the pixel.
 struct ResponseTables
@@ -1382,15 +1386,22 @@ struct ResponseTables
     }
 };
 
-const ResponseTables& responseTables()
+} // namespace
+
+static const ResponseTables& responseTables()
 {
     static const ResponseTables tables;
     return tables;
 }
 
-// The 8 responses of `cols` spread labels.
-void responseRow(const ResponseTables& t, const uchar* s, int cols, uchar* const* d)
+uchar responseOf(int o, uchar spread)
 {
+    return responseTables().lut[o & 7][spread];
+}
+
+void spreadResponses(const uchar* s, int cols, uchar* const* d)
+{
+    const ResponseTables& t = responseTables();
     int c = 0;
 #if CV_SIMD128
     const v_uint8x16 z = v_setzero_u8(), four = v_setall_u8(4);
@@ -1412,8 +1423,6 @@ void responseRow(const ResponseTables& t, const uchar* s, int cols, uchar* const
         for (int o = 0; o < 8; ++o)
             d[o][c] = t.lut[o][s[c]];
 }
-
-} // namespace
 
 void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad)
 {
@@ -1451,7 +1460,6 @@ void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response)
     response.resize(8);
     for (int o = 0; o < 8; ++o)
         response[o].create(spread.size(), CV_8U);
-    const ResponseTables& tables = responseTables();
     const int rows = spread.rows, cols = spread.cols;
     const int nstripes = stripesFor(rows, cols, 32);
     parallel_for_(Range(0, rows), [&](const Range& range) {
@@ -1460,20 +1468,18 @@ void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response)
             uchar* d[8];
             for (int o = 0; o < 8; ++o)
                 d[o] = response[o].ptr<uchar>(r);
-            responseRow(tables, spread.ptr<uchar>(r), cols, d);
+            spreadResponses(spread.ptr<uchar>(r), cols, d);
         }
     }, nstripes);
 }
 
-void spreadResponseTile(const Mat& src, int T, Rect tile, Mat& spread, std::vector<Mat>& response)
+void spreadTile(const Mat& src, int T, Rect tile, Mat& spread)
 {
     CV_Assert(src.type() == CV_8UC1 && T > 0 && spread.type() == CV_8UC1
-              && spread.size() == src.size() && response.size() == 8);
+              && spread.size() == src.size());
     tile &= Rect(0, 0, src.cols, src.rows);
     if (tile.empty())
         return;
-    for (int o = 0; o < 8; ++o)
-        CV_Assert(response[o].type() == CV_8UC1 && response[o].size() == src.size());
     const int x0 = tile.x, y0 = tile.y, w = tile.width;
     // the source pixels the tile's windows [p, p + T) read: T - 1 more on the right and below
     const int sx1 = std::min(x0 + w + T - 1, src.cols);
@@ -1488,16 +1494,9 @@ void spreadResponseTile(const Mat& src, int T, Rect tile, Mat& spread, std::vect
         memcpy(&line_buf[0], src.ptr<uchar>(r) + x0, sx1 - x0);
         orWindowRow(&line_buf[0], w, T, &horiz_buf[(r - y0) * hstep]);
     }
-    const ResponseTables& tables = responseTables();
     for (int r = y0; r < tile.y + tile.height; ++r)
-    {
-        uchar* s = spread.ptr<uchar>(r) + x0;
-        orRows(&horiz_buf[(r - y0) * hstep], hstep, std::min(T, src.rows - r), w, s);
-        uchar* d[8];
-        for (int o = 0; o < 8; ++o)
-            d[o] = response[o].ptr<uchar>(r) + x0;
-        responseRow(tables, s, w, d);
-    }
+        orRows(&horiz_buf[(r - y0) * hstep], hstep, std::min(T, src.rows - r), w,
+               spread.ptr<uchar>(r) + x0);
 }
 
 void dominantLabelsFast(const Mat& src, int k, Mat& dst)

@@ -102,12 +102,17 @@ CV_EXPORTS void quantizeAllLevels(const std::vector<Ptr<cv::linemod::Modality> >
 CV_EXPORTS void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad);
 /** Vectorised, parallel detail::computeResponseMaps(): same signature, same output. */
 CV_EXPORTS void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response);
-/** Spread labels (pad 0) and the 8 response maps of the pixels of `tile` only, written in place
-into `spread` and `response[0..7]` (CV_8UC1, the size of `src`, allocated by the caller): there
-they equal spreadLabelsFast(src, spread, T, 0) and computeResponseMapsFast(spread, response);
-the other pixels are left as they are. Tiles may be computed in parallel (disjoint tiles). */
-CV_EXPORTS void spreadResponseTile(const Mat& src, int T, Rect tile, Mat& spread,
-                                   std::vector<Mat>& response);
+/** Spread labels (pad 0) of the pixels of `tile` only, written in place into `spread` (CV_8UC1,
+the size of `src`, allocated by the caller): there they equal spreadLabelsFast(src, spread, T,
+0); the other pixels are left as they are. Tiles may be computed in parallel (disjoint tiles). */
+CV_EXPORTS void spreadTile(const Mat& src, int T, Rect tile, Mat& spread);
+/** LINEMOD's response (section 2.4) of label o (0..7) to a spread byte: 4 - the circular
+distance from o to the nearest label set in it, 0 beyond 3 (detail::computeResponseMaps). */
+CV_EXPORTS uchar responseOf(int o, uchar spread);
+/** The 8 responses of n spread bytes, vectorised: dst[o][i] = responseOf(o, spread[i]). The
+response maps are never kept whole: each reader (PaddedResponses, LinearMemories) computes them
+in its own layout from the spread images. */
+CV_EXPORTS void spreadResponses(const uchar* spread, int n, uchar* const* dst);
 
 /** Vectorised, parallel detail::dominantLabels() without a mask (the forest's label planes):
 dst(p) = the label bit set most often in the k x k window of p (anchor k / 2, zeros outside;

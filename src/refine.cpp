@@ -28,9 +28,9 @@ static Point bestPosition(const LevelMaps& lm, const TemplatePyramid& tp, int l,
     const int ox = (x / T - 8) * T, oy = (y / T - 8) * T;
     int local[256];
     const bool vectorised = linear
-        && scoreLocal(*linear, tp, l, (int)lm.response.size(), ox, oy, local);
+        && scoreLocal(*linear, tp, l, lm.modalities(), ox, oy, local);
     if (vectorised)
-        num_features = numFeatures(tp, l, (int)lm.response.size());
+        num_features = numFeatures(tp, l, lm.modalities());
     for (int r = 0; r < 16; ++r)
         for (int c = 0; c < 16; ++c)
         {
@@ -54,7 +54,7 @@ static bool refineOne(const std::vector<LevelMaps>& levels, const TemplatePyrami
                       float threshold, const DepthContext* depth, const DepthTemplate& dt,
                       cv::linemod::Match& m, const LinearMemories* linear = 0)
 {
-    const int M = static_cast<int>(levels[0].response.size());
+    const int M = levels[0].modalities();
     const int samples = depth && dt.samples ? (int)dt.samples->size() : 0;
     for (int l = static_cast<int>(levels.size()) - 2; l >= 0; --l)
     {
@@ -124,7 +124,7 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
                        std::vector<std::vector<Rect> >& regions)
 {
     const int L = scene.coarsestIndex();
-    const int M = static_cast<int>(scene.coarsest().response.size());
+    const int M = scene.coarsest().modalities();
     regions.assign(L, std::vector<Rect>());
     for (int l = 0; l < L; ++l)
         regions[l].reserve(matches.size());
@@ -197,7 +197,7 @@ static void searchTemplate(const ScenePyramid& scene, const TemplatePyramid& tp,
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
-    const int M = static_cast<int>(top.response.size());
+    const int M = top.modalities();
     const int T = top.T;
     const int offset = T / 2 + (T % 2 - 1);
     const cv::linemod::Template& t = tp[L * M];

@@ -2,8 +2,8 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory
 // of this distribution and at http://opencv.org/license.html
 
-// The scene pyramid: the frame's maps, computed once per frame (the finer levels' spread and
-// response maps on demand, in tiles).
+// The scene pyramid: the frame's maps, computed once per frame (the finer levels' quantized and
+// spread images on demand, in tiles).
 
 #include "precomp.hpp"
 #include "scene_pyramid.hpp"
@@ -44,22 +44,12 @@ void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
         lm.quantized = quantized[l];
         lm.size = lm.quantized[0].size();
         lm.spread.resize(M);
-        lm.response.resize(M);
         for (int i = 0; i < M; ++i)
         {
             if (l == L)
-            {
                 spreadLabelsFast(lm.quantized[i], lm.spread[i], lm.T, lm.pad);
-                computeResponseMapsFast(lm.spread[i], lm.response[i]);
-            }
             else
-            {
-                // computed in tiles by prepareRefinementLevels
-                lm.spread[i].create(lm.size, CV_8U);
-                lm.response[i].resize(8);
-                for (int o = 0; o < 8; ++o)
-                    lm.response[i][o].create(lm.size, CV_8U);
-            }
+                lm.spread[i].create(lm.size, CV_8U); // in tiles by prepareRefinementLevels
             if (quantized_images.needed())
                 lm.quantized[i].copyTo(quantized_images.getMatRef(l * M + i));
         }
@@ -168,7 +158,7 @@ void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<
             LevelMaps& lm = scene.levels[maps_todo[k].z];
             const Rect tile(maps_todo[k].x * TW, maps_todo[k].y * TH, TW, TH);
             for (size_t i = 0; i < lm.quantized.size(); ++i)
-                spreadResponseTile(lm.quantized[i], lm.T, tile, lm.spread[i], lm.response[i]);
+                spreadTile(lm.quantized[i], lm.T, tile, lm.spread[i]);
         }
     });
 }

@@ -3,11 +3,12 @@
 // of this distribution and at http://opencv.org/license.html
 
 // Internal: everything computed from a frame, once (paper: the scene's quantized images; LINEMOD
-// 2.3-2.4): per pyramid level and modality the quantized, spread and response maps; the forest's
+// 2.3): per pyramid level and modality the quantized and spread images (the response maps are
+// computed from the spread images by their readers, in their own layouts); the forest's
 // label planes of the coarsest level; the depth contexts of the refinement levels. Every later
 // stage reads it in place. The coarsest level covers the whole frame; the finer levels' quantized
-// images (of the modalities with a rectangle path: ColorGradient, ColorHue), spread and response
-// maps are computed on demand, in tiles, where refinement will read them
+// images (of the modalities with a rectangle path: ColorGradient, ColorHue) and spread images
+// are computed on demand, in tiles, where refinement will read them
 // (prepareRefinementLevels). The
 // functions marked CV_EXPORTS are exported for the tests only; the header is not installed.
 
@@ -26,12 +27,12 @@ namespace detail {
 
 struct ScenePyramid
 {
-    /** Level 0 (finest) .. coarsest. Below the coarsest level, spread and response maps (and the
+    /** Level 0 (finest) .. coarsest. Below the coarsest level, the spread images (and the
     quantized images of the deferred modalities) are allocated at full size but valid only in
     the tiles marked in `tiles`. */
     std::vector<LevelMaps> levels;
     /** Per level below the coarsest: CV_8U grid of TILE_W x TILE_H pixel tiles, bit 1 where the
-    spread and response maps are computed, bit 2 where the quantized images are. */
+    spread images are computed, bit 2 where the quantized images are. */
     std::vector<Mat> tiles;
     enum { TILE_MAPS = 1, TILE_QUANTIZED = 2 };
     /** [level][modality]: what the quantized images of the levels below the coarsest are
@@ -58,8 +59,8 @@ struct ScenePyramid
 
 /** The modalities' quantized images, equal to their process, pyrDown, quantize (the fast paths of
 quantize_fast.hpp for the modalities `roles` recognised, the virtual calls for the others): the
-coarsest level's, spread over T and turned into response maps; of the finer levels those of the
-modalities without a rectangle path, the others deferred to the tiles; the finer levels' maps
+coarsest level's, spread over T; of the finer levels those of the modalities without a
+rectangle path, the others deferred to the tiles; the finer levels' spread images
 allocated, no tile computed. `quantized_images`, when needed, receives the quantized images of
 every level, whole, as cv::linemod::Detector::match returns them (nothing deferred then). */
 CV_EXPORTS void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
@@ -67,7 +68,7 @@ CV_EXPORTS void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& mo
                               const std::vector<Mat>& sources, const std::vector<Mat>& masks,
                               ScenePyramid& scene, OutputArrayOfArrays quantized_images);
 
-/** Spread and response maps of the levels below the coarsest in every tile that meets one of
+/** Spread images of the levels below the coarsest in every tile that meets one of
 `regions[l]` (rectangles of level-l pixels, clipped to the level), computed in parallel over the
 tiles not computed yet, after the deferred quantized images of the tiles they read. Equal there
 to the full-frame computation. */

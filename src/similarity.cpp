@@ -7,6 +7,7 @@
 
 #include "precomp.hpp"
 #include "similarity.hpp"
+#include "quantize_fast.hpp"
 
 #include "opencv2/core/hal/intrin.hpp"
 
@@ -87,7 +88,7 @@ void computeResponseMaps(const Mat& spread, std::vector<Mat>& response)
 int similarityRange(const LevelMaps& level, int modality, const cv::linemod::Template& templ,
                     Point tl, int begin, int end)
 {
-    const std::vector<Mat>& resp = level.response[modality];
+    const Mat& spread = level.spread[modality];
     const int W = level.size.width + level.pad, H = level.size.height + level.pad;
     int sum = 0;
     for (int i = begin; i < end; ++i)
@@ -97,7 +98,7 @@ int similarityRange(const LevelMaps& level, int modality, const cv::linemod::Tem
         // LINEMOD skips features that fall outside the image
         if ((unsigned)x >= (unsigned)W || (unsigned)y >= (unsigned)H)
             continue;
-        sum += resp[f.label].ptr<uchar>(y)[x];
+        sum += responseOf(f.label, spread.ptr<uchar>(y)[x]);
     }
     return sum;
 }
@@ -105,7 +106,7 @@ int similarityRange(const LevelMaps& level, int modality, const cv::linemod::Tem
 int similarityAll(const LevelMaps& level, const TemplatePyramid& tp, int level_index, Point tl,
                   int* num_features)
 {
-    const int M = static_cast<int>(level.response.size());
+    const int M = level.modalities();
     int sum = 0, n = 0;
     for (int m = 0; m < M; ++m)
     {

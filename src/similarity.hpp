@@ -19,17 +19,18 @@ namespace detail {
 
 typedef std::vector<cv::linemod::Template> TemplatePyramid;
 
-/** One pyramid level of a frame: per modality the quantized and spread images and the 8 response
-maps (LINEMOD section 2.4), each padded by `pad` zero pixels on the right and bottom so that a
-template partly outside the image reads zeros instead of leaving the buffer. */
+/** One pyramid level of a frame: per modality the quantized and spread images, the spread ones
+padded by `pad` zero pixels on the right and bottom so that a template partly outside the image
+reads zeros instead of leaving the buffer. The 8 response maps (LINEMOD section 2.4) are a
+function of the spread image (responseOf()), computed by each reader in its own layout. */
 struct LevelMaps
 {
     Size size; //!< image size at this level (without padding)
     int T;
     int pad;
     std::vector<Mat> quantized;             //!< [modality], size `size`
-    std::vector<Mat> spread;                //!< [modality], padded
-    std::vector<std::vector<Mat> > response; //!< [modality][label], CV_8U 0..4, padded
+    std::vector<Mat> spread;    //!< [modality], padded
+    int modalities() const { return static_cast<int>(spread.size()); }
 };
 
 /** Spreads labels over a T x T window: dst(p) = OR of src over [p, p + T) (LINEMOD 2.3). */
@@ -38,8 +39,9 @@ void spreadLabels(const Mat& src, Mat& dst, int T, int pad);
 labels of p (LINEMOD 2.4: 4 same bin, 3, 2, 1, 0 opposite; circular). */
 void computeResponseMaps(const Mat& spread, std::vector<Mat>& response);
 
-/** Raw similarity (sum of responses, 0..4 per feature) of the features [begin, end) of one
-modality's template with its top-left corner at `tl` (level pixels). */
+/** Raw similarity (sum of responses, 0..4 per feature, read from the spread image) of the
+features [begin, end) of one modality's template with its top-left corner at `tl` (level
+pixels). */
 int similarityRange(const LevelMaps& level, int modality, const cv::linemod::Template& templ,
                     Point tl, int begin, int end);
 

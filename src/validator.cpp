@@ -3,13 +3,14 @@
 // of this distribution and at http://opencv.org/license.html
 
 // Validation stage (paper: "Fast Breadth-first Leaf Validation"): LINEMOD's similarity read from
-// a zero-bordered copy of the frame's coarsest response maps (one read per feature, offsets
+// zero-bordered response maps of the frame's coarsest level (one read per feature, offsets
 // computed once per template and frame), the breadth-first preemptive scheme; and the exhaustive
 // vectorised search of the groups whose forest rejected too little in this frame.
 
 #include "precomp.hpp"
 #include "validator.hpp"
 #include "score_kernels.hpp"
+#include "quantize_fast.hpp"
 
 
 namespace cv {
@@ -21,20 +22,25 @@ namespace detail {
 
 void PaddedResponses::build(const LevelMaps& level, int b)
 {
-    modalities = static_cast<int>(level.response.size());
+    modalities = level.modalities();
     border = b;
     width = level.size.width + level.pad + 2 * b;
     height = level.size.height + level.pad + 2 * b;
     plane = width * height;
     data.assign((size_t)plane * 8 * modalities, 0);
     for (int m = 0; m < modalities; ++m)
-        for (int o = 0; o < 8; ++o)
-        {
-            const Mat& r = level.response[m][o];
-            uchar* dst = &data[(size_t)(m * 8 + o) * plane];
-            for (int y = 0; y < r.rows; ++y)
-                std::memcpy(dst + at(0, y), r.ptr<uchar>(y), r.cols);
-        }
+    {
+        const Mat& s = level.spread[m];
+        parallel_for_(Range(0, s.rows), [&](const Range& range) {
+            uchar* d[8];
+            for (int y = range.start; y < range.end; ++y)
+            {
+                for (int o = 0; o < 8; ++o)
+                    d[o] = &data[(size_t)(m * 8 + o) * plane + at(0, y)];
+                spreadResponses(s.ptr<uchar>(y), s.cols, d);
+            }
+        });
+    }
 }
 
 void PaddedResponses::featureOffsets(const TemplatePyramid& tp, int level_index, int* begin,
@@ -54,20 +60,35 @@ void PaddedResponses::featureOffsets(const TemplatePyramid& tp, int level_index,
     begin[modalities] = static_cast<int>(offsets.size());
 }
 
-// Cell columns [c0, c1] of cell row `cy`: dst(dx, dy)[cy * stride + cx] = src(cy T + dy)[cx T + dx]
-// for the pixels inside the map (the others stay 0).
-static void gatherCells(const Mat& r, int T, size_t plane, int stride, int cy, int c0, int c1,
-                        uchar* dst)
+// Cell columns [c0, c1] of cell row `cy` of one modality's memories (`row`: label 0, offset
+// (0, 0), that cell row; `plane` between consecutive offsets): the responses of the spread
+// pixels (cx T + dx, cy T + dy) inside the image, 0 outside. One gather of the cells' pixels,
+// then the 8 responses of the gathered row at once.
+static void linearizeCells(const Mat& spread, int T, int cy, int c0, int c1, uchar* row,
+                           size_t plane, uchar* gathered)
 {
-    for (int dy = 0; dy < T && cy * T + dy < r.rows; ++dy)
+    const int n = c1 - c0 + 1;
+    for (int dy = 0; dy < T; ++dy)
     {
-        const uchar* src = r.ptr<uchar>(cy * T + dy);
+        const int y = cy * T + dy;
         for (int dx = 0; dx < T; ++dx)
         {
-            uchar* d = dst + (size_t)(dy * T + dx) * plane + (size_t)cy * stride;
-            const int last = std::min(c1, (r.cols - 1 - dx) / T);
-            for (int cx = c0; cx <= last; ++cx)
-                d[cx] = src[cx * T + dx];
+            if (y < spread.rows)
+            {
+                const uchar* src = spread.ptr<uchar>(y);
+                const int last = std::min(c1, (spread.cols - 1 - dx) / T);
+                int cx = c0;
+                for (; cx <= last; ++cx)
+                    gathered[cx - c0] = src[cx * T + dx];
+                for (; cx <= c1; ++cx)
+                    gathered[cx - c0] = 0;
+            }
+            else
+                std::memset(gathered, 0, n);
+            uchar* d[8];
+            for (int o = 0; o < 8; ++o)
+                d[o] = row + ((size_t)o * T * T + dy * T + dx) * plane + c0;
+            spreadResponses(gathered, n, d);
         }
     }
 }
@@ -79,7 +100,7 @@ void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
     cells_y = level.size.height / T;
     stride = cells_x + 1;
     rows = cells_y + 1;
-    const int M = static_cast<int>(level.response.size());
+    const int M = level.modalities();
     const size_t n = (size_t)stride * rows;
     data.assign(n * T * T * 8 * M, 0);
     // the runs of cells to fill, per cell row: every cell, or those touching a marked tile
@@ -121,14 +142,14 @@ void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
     }
     run_begin[rows] = static_cast<int>(runs.size());
     for (int m = 0; m < M; ++m)
-        for (int o = 0; o < 8; ++o)
-        {
-            const Mat& r = level.response[m][o];
-            uchar* dst = &data[index(m, o, 0, 0)];
-            for (int cy = 0; cy < rows; ++cy)
+        parallel_for_(Range(0, rows), [&](const Range& range) {
+            std::vector<uchar> gathered(stride);
+            for (int cy = range.start; cy < range.end; ++cy)
                 for (int k = run_begin[cy]; k < run_begin[cy + 1]; ++k)
-                    gatherCells(r, T, n, stride, cy, runs[k][0], runs[k][1], dst);
-        }
+                    linearizeCells(level.spread[m], T, cy, runs[k][0], runs[k][1],
+                                   &data[index(m, 0, 0, 0)] + (size_t)cy * stride, n,
+                                   &gathered[0]);
+        });
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -255,7 +276,7 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
-    const int M = static_cast<int>(top.response.size());
+    const int M = top.modalities();
     const int T = top.T;
     const int K = keep;
     const int offset = T / 2 + (T % 2 - 1);
@@ -535,7 +556,7 @@ static void prepareContext(const ScenePyramid& scene, const LocationCandidates& 
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
-    const int M = static_cast<int>(top.response.size());
+    const int M = top.modalities();
     const int S = cands.step;
     ctx.M = M;
     ctx.first.assign(index.rows.size(), -1);

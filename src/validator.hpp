@@ -23,7 +23,8 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-/** The coarsest level's response maps of every modality and label in one buffer with a zero
+/** The coarsest level's response maps of every modality and label (computed from its spread
+images, spreadResponses()) in one buffer with a zero
 border, so that a feature is one read without bounds checks: the response of label o of
 modality m at (x, y) is data[(m * 8 + o) * plane + (y + border) * width + x + border]. A read
 in the border gives 0, as LINEMOD's skipping of features outside the image. */
@@ -36,7 +37,7 @@ struct CV_EXPORTS PaddedResponses
     int modalities;
 
     PaddedResponses() : border(0), width(0), height(0), plane(0), modalities(0) {}
-    /** Copies the level's maps with a border of `border` pixels. */
+    /** The level's response maps with a border of `border` pixels. */
     void build(const LevelMaps& level, int border);
     /** Offset of (x, y) of the unpadded level in a plane. */
     int at(int x, int y) const { return (y + border) * width + x + border; }
@@ -60,7 +61,7 @@ struct CV_EXPORTS LinearMemories
     int stride, rows;       //!< cells of a memory
 
     LinearMemories() : T(1), cells_x(0), cells_y(0), stride(0), rows(0) {}
-    /** From the level's response maps; with `tiles` (a grid of `tile`-sized pixel tiles, nonzero
+    /** From the level's spread images (spreadResponses()); with `tiles` (a grid of `tile`-sized pixel tiles, nonzero
     where the maps are valid, ScenePyramid::tiles) only the cells touching a marked tile, the
     others 0. */
     void build(const LevelMaps& level, const Mat& tiles = Mat(), Size tile = Size());

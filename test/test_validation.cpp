@@ -31,12 +31,10 @@ static LevelMaps randomLevel(RNG& rng, Size size)
     level.pad = 0;
     level.quantized.resize(2);
     level.spread.resize(2);
-    level.response.resize(2);
     for (int m = 0; m < 2; ++m)
     {
         mods[m]->process(img)->quantize(level.quantized[m]);
         spreadLabelsFast(level.quantized[m], level.spread[m], level.T, 0);
-        computeResponseMapsFast(level.spread[m], level.response[m]);
     }
     level.size = level.quantized[0].size();
     return level;
