@@ -51,9 +51,9 @@ void widenAdd(ushort* dst, const uchar* src, int n)
     FORESTMOD_DISPATCH(widenAdd(dst, src, n));
 }
 
-void addBlock16(ushort* acc, const uchar* src, size_t stride)
+void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride)
 {
-    FORESTMOD_DISPATCH(addBlock16(acc, src, stride));
+    FORESTMOD_DISPATCH(addBlocks16(acc, src, n, stride));
 }
 
 void countLabels8(uchar* dst, const uchar* src, int n)
@@ -64,6 +64,15 @@ void countLabels8(uchar* dst, const uchar* src, int n)
 void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok)
 {
     FORESTMOD_DISPATCH(countAccepted8(dst, src, n, labels, zero_ok));
+}
+
+int firstAbove16(const ushort* src, int n, ushort threshold)
+{
+#ifdef FORESTMOD_HAVE_AVX2
+    if (useAVX2())
+        return opt_AVX2::firstAbove16(src, n, threshold);
+#endif
+    return cpu_baseline::firstAbove16(src, n, threshold);
 }
 
 const char* scoreKernelsPath()

@@ -22,8 +22,9 @@ namespace detail {
 void addRun8(uchar* dst, const uchar* src, int n);
 /** dst[0 .. n) += src[0 .. n), widened to 16 bits. */
 void widenAdd(ushort* dst, const uchar* src, int n);
-/** acc[r * 16 + c] += src[r * stride + c] for the 16 x 16 block at src. */
-void addBlock16(ushort* acc, const uchar* src, size_t stride);
+/** acc[r * 16 + c] += sum over k of src[k][r * stride + c]: n 16 x 16 blocks of responses
+(values <= 4; summed in 8 bits, 63 blocks at a time, in registers). */
+void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
 /** dst[0 .. n) += 1 where src != 0, 8-bit with wrap-around (the caller keeps the counts under
 256): the scan's flat-window test over a row of locations. */
 CV_EXPORTS void countLabels8(uchar* dst, const uchar* src, int n);
@@ -31,6 +32,9 @@ CV_EXPORTS void countLabels8(uchar* dst, const uchar* src, int n);
 zero_ok for the value 0 (rejector.hpp's look-up); 8-bit with wrap-around as countLabels8. */
 CV_EXPORTS void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels,
                                uchar zero_ok);
+/** The index of the first src[i] > threshold in [0, n), n when there is none: the exhaustive
+search's scan of a template's scores (most positions stay under the threshold). */
+CV_EXPORTS int firstAbove16(const ushort* src, int n, ushort threshold);
 /** The instruction set the kernels run with on this machine now ("AVX2" or "baseline"). */
 CV_EXPORTS const char* scoreKernelsPath();
 

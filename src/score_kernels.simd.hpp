@@ -24,9 +24,10 @@ namespace FORESTMOD_KERNELS_NAMESPACE {
 
 void addRun8(uchar* dst, const uchar* src, int n);
 void widenAdd(ushort* dst, const uchar* src, int n);
-void addBlock16(ushort* acc, const uchar* src, size_t stride);
+void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
 void countLabels8(uchar* dst, const uchar* src, int n);
 void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok);
+int firstAbove16(const ushort* src, int n, ushort threshold);
 
 #ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
@@ -59,17 +60,54 @@ void widenAdd(ushort* dst, const uchar* src, int n)
         dst[k] = (ushort)(dst[k] + src[k]);
 }
 
-void addBlock16(ushort* acc, const uchar* src, size_t stride)
+void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride)
 {
-    for (int r = 0; r < 16; ++r, src += stride, acc += 16)
+    // 8-bit sums of up to 63 blocks (responses <= 4) in registers, then widened into acc
+    for (int k = 0; k < n;)
     {
-        int c = 0;
-#if CV_SIMD
-        for (; c <= 16 - v_uint16::nlanes; c += v_uint16::nlanes)
-            v_store(acc + c, vx_load(acc + c) + vx_load_expand(src + c));
+        const int end = n - k < 63 ? n : k + 63;
+#if CV_SIMD256
+        // two rows per vector
+        v_uint8x32 a[8];
+        for (int j = 0; j < 8; ++j)
+            a[j] = v256_setzero_u8();
+        for (; k < end; ++k)
+        {
+            const uchar* s = src[k];
+            for (int j = 0; j < 8; ++j)
+                a[j] = v_add_wrap(a[j], v256_load_halves(s + 2 * j * stride,
+                                                         s + (2 * j + 1) * stride));
+        }
+        for (int j = 0; j < 8; ++j)
+        {
+            v_uint16x16 lo, hi;
+            v_expand(a[j], lo, hi);
+            v_store(acc + 32 * j, v256_load(acc + 32 * j) + lo);
+            v_store(acc + 32 * j + 16, v256_load(acc + 32 * j + 16) + hi);
+        }
+#elif CV_SIMD128
+        v_uint8x16 a[16];
+        for (int j = 0; j < 16; ++j)
+            a[j] = v_setzero_u8();
+        for (; k < end; ++k)
+        {
+            const uchar* s = src[k];
+            for (int j = 0; j < 16; ++j)
+                a[j] = v_add_wrap(a[j], v_load(s + j * stride));
+        }
+        for (int j = 0; j < 16; ++j)
+        {
+            v_uint16x8 lo, hi;
+            v_expand(a[j], lo, hi);
+            v_store(acc + 16 * j, v_load(acc + 16 * j) + lo);
+            v_store(acc + 16 * j + 8, v_load(acc + 16 * j + 8) + hi);
+        }
+#else
+        for (; k < end; ++k)
+            for (int r = 0; r < 16; ++r)
+                for (int c = 0; c < 16; ++c)
+                    acc[r * 16 + c] = (ushort)(acc[r * 16 + c] + src[k][r * stride + c]);
 #endif
-        for (; c < 16; ++c)
-            acc[c] = (ushort)(acc[c] + src[c]);
     }
 }
 
@@ -103,6 +141,22 @@ void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zer
 #endif
     for (; k < n; ++k)
         dst[k] = (uchar)(dst[k] + (src[k] ? (src[k] & labels) != 0 : zero_ok != 0));
+}
+
+int firstAbove16(const ushort* src, int n, ushort threshold)
+{
+    int k = 0;
+#if CV_SIMD
+    const int w = v_uint16::nlanes;
+    const v_uint16 t = vx_setall_u16(threshold);
+    for (; k <= n - w; k += w)
+        if (v_check_any(vx_load(src + k) > t))
+            break;
+#endif
+    for (; k < n; ++k)
+        if (src[k] > threshold)
+            return k;
+    return n;
 }
 
 #endif // FORESTMOD_KERNELS_DECLARATIONS_ONLY

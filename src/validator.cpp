@@ -102,6 +102,9 @@ void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
     rows = cells_y + 1;
     const int M = level.modalities();
     const size_t n = (size_t)stride * rows;
+    div_T.resize((size_t)std::max(stride, rows) * T);
+    for (size_t x = 0; x < div_T.size(); ++x)
+        div_T[x] = static_cast<ushort>(x / T);
     data.assign(n * T * T * 8 * M, 0);
     // the runs of cells to fill, per cell row: every cell, or those touching a marked tile
     std::vector<Vec2i> runs;
@@ -237,30 +240,30 @@ bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_i
     if (ox < 0 || oy < 0 || ox % T || oy % T || numFeatures(tp, level_index, M) > kMaxSum16)
         return false;
     const int cx = ox / T, cy = oy / T;
+    // every feature's 16 x 16 block of cells, checked before anything is added (x / T from the
+    // memories' table: no division per feature)
+    static thread_local std::vector<const uchar*> blocks;
+    blocks.clear();
+    const int n_div = static_cast<int>(lm.div_T.size());
     for (int m = 0; m < M; ++m)
     {
         const cv::linemod::Template& t = tp[level_index * M + m];
         for (size_t i = 0; i < t.features.size(); ++i)
         {
             const cv::linemod::Feature& f = t.features[i];
-            if (f.x < 0 || f.y < 0 || cx + f.x / T + 16 > lm.stride
-                || cy + f.y / T + 16 > lm.rows)
+            if (f.x < 0 || f.y < 0 || f.x >= n_div || f.y >= n_div)
                 return false;
+            const int qx = lm.div_T[f.x], qy = lm.div_T[f.y];
+            if (cx + qx + 16 > lm.stride || cy + qy + 16 > lm.rows)
+                return false;
+            blocks.push_back(lm.memory(m, f.label, f.x - qx * T, f.y - qy * T)
+                             + (size_t)(cy + qy) * lm.stride + cx + qx);
         }
     }
     ushort acc[256];
     std::fill(acc, acc + 256, (ushort)0);
-    for (int m = 0; m < M; ++m)
-    {
-        const cv::linemod::Template& t = tp[level_index * M + m];
-        for (size_t i = 0; i < t.features.size(); ++i)
-        {
-            const cv::linemod::Feature& f = t.features[i];
-            const uchar* src = lm.memory(m, f.label, f.x % T, f.y % T)
-                + (cy + f.y / T) * lm.stride + cx + f.x / T;
-            addBlock16(acc, src, lm.stride);
-        }
-    }
+    if (!blocks.empty())
+        addBlocks16(acc, &blocks[0], static_cast<int>(blocks.size()), lm.stride);
     for (int k = 0; k < 256; ++k)
         scores[k] = acc[k];
     return true;
@@ -318,15 +321,17 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
                     continue;
                 sc.row = rows[i];
                 const int raw_thr = rawThreshold(threshold, sc.total);
+                if (raw_thr >= 65535)
+                    continue;
                 for (int r = 0; r <= span_y; ++r)
                 {
                     const ushort* s = &scores[(size_t)r * lm.stride];
-                    for (int c = 0; c <= span_x; ++c)
-                        if (s[c] > raw_thr)
-                        {
-                            sc.raw = s[c];
-                            keepBest(bb + (size_t)(r * lm.cells_x + c) * K, K, sc);
-                        }
+                    for (int c = firstAbove16(s, span_x + 1, (ushort)raw_thr); c <= span_x;
+                         c += 1 + firstAbove16(s + c + 1, span_x - c, (ushort)raw_thr))
+                    {
+                        sc.raw = s[c];
+                        keepBest(bb + (size_t)(r * lm.cells_x + c) * K, K, sc);
+                    }
                 }
             }
         }

@@ -59,6 +59,7 @@ struct CV_EXPORTS LinearMemories
     int T;
     int cells_x, cells_y;   //!< whole cells of the level: the positions
     int stride, rows;       //!< cells of a memory
+    std::vector<ushort> div_T; //!< x / T for x < max(stride, rows) T (no division per feature)
 
     LinearMemories() : T(1), cells_x(0), cells_y(0), stride(0), rows(0) {}
     /** From the level's spread images (spreadResponses()); with `tiles` (a grid of `tile`-sized pixel tiles, nonzero

@@ -230,6 +230,30 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
         ASSERT_EQ(out[0][0][k], out[1][0][k]) << k;
         ASSERT_EQ(out[0][1][k], out[1][1][k]) << k;
     }
+    // the exhaustive search's threshold scan: every position over the threshold found, in order
+    std::vector<ushort> sc(203);
+    for (size_t k = 0; k < sc.size(); ++k)
+        sc[k] = (ushort)(k % 37 == 5 || k == 202 ? 1000 + k : rng.uniform(0, 1001));
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        setUseOptimized(pass == 0);
+        for (int len : { 203, 202, 33, 1, 0 })
+        {
+            std::vector<int> found, expect;
+            for (int c = firstAbove16(&sc[0], len, 1000); c < len;
+                 c += 1 + firstAbove16(&sc[0] + c + 1, len - c - 1, 1000))
+                found.push_back(c);
+            for (int c = 0; c < len; ++c)
+                if (sc[c] > 1000)
+                    expect.push_back(c);
+            EXPECT_EQ(expect, found) << "pass " << pass << " length " << len;
+            if (len == 203)
+            {
+                EXPECT_EQ(7u, found.size());
+            }
+        }
+    }
+    setUseOptimized(was_optimized);
     std::cout << "score kernels: " << scoreKernelsPath() << std::endl;
 }
 
