@@ -9,6 +9,7 @@
 #include "validator.hpp"
 
 #include <climits>
+#include <unordered_map>
 
 namespace cv {
 namespace forestmod {
@@ -128,20 +129,31 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
     regions.assign(L, std::vector<Rect>());
     for (int l = 0; l < L; ++l)
         regions[l].reserve(matches.size());
-    // the feature extents of the last template seen (the exhaustive search gives its matches
-    // template by template)
-    const TemplatePyramid* last = 0;
-    std::vector<Point> f_lo(L), f_hi(L);
+    // the feature extents of each template, once: [2 L i, 2 L (i + 1)) of `extents`, lo and hi
+    // per level (the coarse matches of one template are many)
+    std::unordered_map<const TemplatePyramid*, size_t> seen;
+    std::vector<Point> extents;
+    const std::string* last_class = 0;
+    const std::vector<TemplatePyramid>* class_templates = 0;
     for (size_t k = 0; k < matches.size(); ++k)
     {
         const cv::linemod::Match& m = matches[k];
-        const TemplatePyramid& tp = pyramids.find(m.class_id)->second[m.template_id];
-        if (&tp != last)
+        if (!last_class || *last_class != m.class_id)
         {
-            for (int l = 0; l < L; ++l)
-                featureExtent(tp, l, M, f_lo[l], f_hi[l]);
-            last = &tp;
+            class_templates = &pyramids.find(m.class_id)->second;
+            last_class = &m.class_id;
         }
+        const TemplatePyramid& tp = (*class_templates)[m.template_id];
+        const auto found = seen.emplace(&tp, extents.size());
+        if (found.second)
+        {
+            extents.resize(extents.size() + 2 * L);
+            for (int l = 0; l < L; ++l)
+                featureExtent(tp, l, M, extents[found.first->second + 2 * l],
+                              extents[found.first->second + 2 * l + 1]);
+        }
+        const Point* f_lo = &extents[found.first->second];
+        const Point* f_hi = f_lo + 1;
         int x_lo = m.x, x_hi = m.x, y_lo = m.y, y_hi = m.y;
         for (int l = L - 1; l >= 0; --l)
         {
@@ -149,9 +161,9 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
             const int border = 8 * lm.T;
             int x0, x1, y0, y1;
             refineSpan(x_lo, x_hi, border, lm.size.width - tp[l * M].width - border, lm.T,
-                       f_lo[l].x, f_hi[l].x, x0, x1, x_lo, x_hi);
+                       f_lo[2 * l].x, f_hi[2 * l].x, x0, x1, x_lo, x_hi);
             refineSpan(y_lo, y_hi, border, lm.size.height - tp[l * M].height - border, lm.T,
-                       f_lo[l].y, f_hi[l].y, y0, y1, y_lo, y_hi);
+                       f_lo[2 * l].y, f_hi[2 * l].y, y0, y1, y_lo, y_hi);
             regions[l].push_back(Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1));
         }
     }

@@ -323,15 +323,17 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
                 const int raw_thr = rawThreshold(threshold, sc.total);
                 if (raw_thr >= 65535)
                     continue;
-                for (int r = 0; r <= span_y; ++r)
+                // one scan over the positions r * stride + c; the row ends (c > span_x) wrap
+                const int n_pos = span_y * lm.stride + span_x + 1;
+                const ushort* s = &scores[0];
+                for (int p = firstAbove16(s, n_pos, (ushort)raw_thr); p < n_pos;
+                     p += 1 + firstAbove16(s + p + 1, n_pos - p - 1, (ushort)raw_thr))
                 {
-                    const ushort* s = &scores[(size_t)r * lm.stride];
-                    for (int c = firstAbove16(s, span_x + 1, (ushort)raw_thr); c <= span_x;
-                         c += 1 + firstAbove16(s + c + 1, span_x - c, (ushort)raw_thr))
-                    {
-                        sc.raw = s[c];
-                        keepBest(bb + (size_t)(r * lm.cells_x + c) * K, K, sc);
-                    }
+                    const int r = p / lm.stride, c = p - r * lm.stride;
+                    if (c > span_x)
+                        continue;
+                    sc.raw = s[p];
+                    keepBest(bb + (size_t)(r * lm.cells_x + c) * K, K, sc);
                 }
             }
         }
