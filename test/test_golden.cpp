@@ -3,12 +3,17 @@
 // of this distribution and at http://opencv.org/license.html
 
 // Golden matches: the full match lists (class, template, x, y, similarity) of fixed detectors on
-// fixed frames, as the code that wrote testdata/forestmod/golden/ produced them. A change of the
+// fixed frames, as the code that wrote testdata/forestmod/golden/ produced them, and what the scan
+// did at every location (DetectionStats::rejection_map: the depth at which each location was
+// rejected, or that it was validated; the counters of validated locations and candidates). A change of the
 // pipeline that must not change results (a restructuring, a faster path) keeps this test green;
 // a change that alters results on purpose regenerates the folder and says why in its commit:
 //
 //   FORESTMOD_GOLDEN_RECORD=<repo>/testdata/forestmod/golden
 //   build/bin/opencv_test_forestmod --gtest_filter='Forestmod_Golden.*'   (with that variable)
+//
+// which rewrites matches.yml.gz; the model files and scenes are rendered and trained again only
+// when they are missing from that folder (delete them to renew the inputs).
 //
 // Inputs, all shipped: model files with the shipped ape's templates (RGB: gradient + hue; RGB-D:
 // + depth normals; two distances, so two search groups) written by save(), which doubles as the
@@ -93,6 +98,7 @@ struct GoldenCase
 {
     std::string name;
     std::vector<linemod::Match> matches;
+    DetectionStats stats;
 };
 
 // The cases of one model: 1 tree, 5 trees, exhaustive, on every frame of its kind.
@@ -142,7 +148,8 @@ static std::vector<GoldenCase> runModel(bool rgbd)
         {
             GoldenCase c;
             c.name = cv::format("%s_%s_frame%d", kind.c_str(), modes[mode], (int)k);
-            det.match(sourcesOf(det, colors[k], rgbd ? depths[k] : Mat()), 80.f, c.matches);
+            det.match(sourcesOf(det, colors[k], rgbd ? depths[k] : Mat()), 80.f, c.matches,
+                      std::vector<String>(), noArray(), std::vector<Mat>(), &c.stats);
             out.push_back(c);
         }
     }
@@ -158,6 +165,12 @@ static void writeCases(FileStorage& fs, const std::vector<GoldenCase>& cases)
             fs << "{:" << "class" << m.class_id << "template" << m.template_id << "x" << m.x
                << "y" << m.y << "similarity" << m.similarity << "}";
         fs << "]";
+        // the scan (forest modes): per location its outcome, and the counters
+        if (c.stats.rejection_map.empty())
+            continue;
+        fs << c.name + "_scan" << "{" << "rejection_map" << c.stats.rejection_map
+           << "validated" << (int)c.stats.validated << "candidates" << (int)c.stats.candidates
+           << "}";
     }
 }
 
@@ -179,6 +192,19 @@ static void expectCases(const FileStorage& fs, const std::vector<GoldenCase>& ca
             EXPECT_EQ((int)(*it)["y"], m.y) << where;
             EXPECT_NEAR((float)(*it)["similarity"], m.similarity, 1e-4f) << where;
         }
+        const FileNode scan = fs[c.name + "_scan"];
+        ASSERT_EQ(c.stats.rejection_map.empty(), scan.empty()) << c.name << ": scan record";
+        if (scan.empty())
+            continue;
+        Mat map;
+        scan["rejection_map"] >> map;
+        ASSERT_EQ(map.size(), c.stats.rejection_map.size()) << c.name;
+        ASSERT_EQ(map.type(), c.stats.rejection_map.type()) << c.name;
+        EXPECT_EQ(0, cvtest::norm(map, c.stats.rejection_map, NORM_L1))
+            << c.name << ": the scan's outcome differs at "
+            << countNonZero(map != c.stats.rejection_map) << " locations";
+        EXPECT_EQ((int)scan["validated"], (int)c.stats.validated) << c.name;
+        EXPECT_EQ((int)scan["candidates"], (int)c.stats.candidates) << c.name;
     }
 }
 
@@ -189,9 +215,12 @@ TEST(Forestmod_Golden, match_lists_reproduce_the_recorded_ones)
     if (!record.empty())
     {
         ASSERT_TRUE(utils::fs::createDirectories(record));
-        recordModel(false, goldenFile("ape_rgb.yml.gz"));
-        recordModel(true, goldenFile("ape_rgbd.yml.gz"));
-        recordScenes();
+        if (!utils::fs::exists(goldenFile("ape_rgb.yml.gz")))
+            recordModel(false, goldenFile("ape_rgb.yml.gz"));
+        if (!utils::fs::exists(goldenFile("ape_rgbd.yml.gz")))
+            recordModel(true, goldenFile("ape_rgbd.yml.gz"));
+        if (!utils::fs::exists(goldenFile("scene0_rgb.png")))
+            recordScenes();
     }
     std::vector<GoldenCase> cases = runModel(false);
     const std::vector<GoldenCase> rgbd = runModel(true);
