@@ -80,10 +80,9 @@ static void markTiles(Mat& grid, int tx, int ty, Point reach, uchar bit, int l,
 }
 
 // Share of a level's tiles from which prepareRefinementLevels quantizes the whole level at once: a
-// tile costs about twice a whole level's stripes per pixel (OpenCV's filters set up per call, the
-// margins). Perf test Forestmod_ScenePyramid_tiles, VGA RGB, 1 thread: one 240 x 240 region
-// (a third of the tiles) 1.2 ms in tiles, 1.9 ms with the whole level; the whole frame 4.5 ms in
-// tiles, 2.5 ms whole.
+// tile costs about 1.7 times a whole level's stripes per pixel (OpenCV's filters set up per call,
+// the margins). Perf test Forestmod_ScenePyramid_tiles, VGA RGB, 1 thread (commit 33f5134): one
+// 240 x 240 region (a third of the tiles) 1.05 ms in tiles; the whole level 1.87 ms.
 static const double kWholeLevelShare = 0.5;
 
 void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<Rect> >& regions)
