@@ -144,15 +144,16 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
             last_class = &m.class_id;
         }
         const TemplatePyramid& tp = (*class_templates)[m.template_id];
-        const auto found = seen.emplace(&tp, extents.size());
-        if (found.second)
+        std::unordered_map<const TemplatePyramid*, size_t>::const_iterator it = seen.find(&tp);
+        if (it == seen.end())
         {
+            it = seen.insert(std::make_pair(&tp, extents.size())).first;
             extents.resize(extents.size() + 2 * L);
             for (int l = 0; l < L; ++l)
-                featureExtent(tp, l, M, extents[found.first->second + 2 * l],
-                              extents[found.first->second + 2 * l + 1]);
+                featureExtent(tp, l, M, extents[it->second + 2 * l],
+                              extents[it->second + 2 * l + 1]);
         }
-        const Point* f_lo = &extents[found.first->second];
+        const Point* f_lo = &extents[it->second];
         const Point* f_hi = f_lo + 1;
         int x_lo = m.x, x_hi = m.x, y_lo = m.y, y_hi = m.y;
         for (int l = L - 1; l >= 0; --l)

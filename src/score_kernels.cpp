@@ -66,13 +66,13 @@ void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zer
     FORESTMOD_DISPATCH(countAccepted8(dst, src, n, labels, zero_ok));
 }
 
-int firstAbove16(const ushort* src, int n, ushort threshold)
+int positionsAbove16(const ushort* src, int n, ushort threshold, int* out)
 {
 #ifdef FORESTMOD_HAVE_AVX2
     if (useAVX2())
-        return opt_AVX2::firstAbove16(src, n, threshold);
+        return opt_AVX2::positionsAbove16(src, n, threshold, out);
 #endif
-    return cpu_baseline::firstAbove16(src, n, threshold);
+    return cpu_baseline::positionsAbove16(src, n, threshold, out);
 }
 
 const char* scoreKernelsPath()

@@ -32,9 +32,10 @@ CV_EXPORTS void countLabels8(uchar* dst, const uchar* src, int n);
 zero_ok for the value 0 (rejector.hpp's look-up); 8-bit with wrap-around as countLabels8. */
 CV_EXPORTS void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels,
                                uchar zero_ok);
-/** The index of the first src[i] > threshold in [0, n), n when there is none: the exhaustive
-search's scan of a template's scores (most positions stay under the threshold). */
-CV_EXPORTS int firstAbove16(const ushort* src, int n, ushort threshold);
+/** The indices i in [0, n) where src[i] > threshold, ascending, into out (room for n); returns
+their number: the exhaustive search's scan of a template's scores (most positions stay under the
+threshold: one vector comparison per 8 or 16 of them). */
+CV_EXPORTS int positionsAbove16(const ushort* src, int n, ushort threshold, int* out);
 /** The instruction set the kernels run with on this machine now ("AVX2" or "baseline"). */
 CV_EXPORTS const char* scoreKernelsPath();
 

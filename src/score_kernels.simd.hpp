@@ -27,7 +27,7 @@ void widenAdd(ushort* dst, const uchar* src, int n);
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
 void countLabels8(uchar* dst, const uchar* src, int n);
 void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok);
-int firstAbove16(const ushort* src, int n, ushort threshold);
+int positionsAbove16(const ushort* src, int n, ushort threshold, int* out);
 
 #ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
@@ -143,20 +143,22 @@ void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zer
         dst[k] = (uchar)(dst[k] + (src[k] ? (src[k] & labels) != 0 : zero_ok != 0));
 }
 
-int firstAbove16(const ushort* src, int n, ushort threshold)
+int positionsAbove16(const ushort* src, int n, ushort threshold, int* out)
 {
-    int k = 0;
+    int k = 0, found = 0;
 #if CV_SIMD
     const int w = v_uint16::nlanes;
     const v_uint16 t = vx_setall_u16(threshold);
     for (; k <= n - w; k += w)
         if (v_check_any(vx_load(src + k) > t))
-            break;
+            for (int j = k; j < k + w; ++j)
+                if (src[j] > threshold)
+                    out[found++] = j;
 #endif
     for (; k < n; ++k)
         if (src[k] > threshold)
-            return k;
-    return n;
+            out[found++] = k;
+    return found;
 }
 
 #endif // FORESTMOD_KERNELS_DECLARATIONS_ONLY

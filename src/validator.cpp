@@ -294,6 +294,7 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
     parallel_for_(Range(0, blocks), [&](const Range& range) {
         std::vector<ushort> scores;
         std::vector<uchar> acc8;
+        std::vector<int> hits;
         for (int b = range.start; b < range.end; ++b)
         {
             Scored* bb = &best[b][0];
@@ -325,14 +326,16 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
                     continue;
                 // one scan over the positions r * stride + c; the row ends (c > span_x) wrap
                 const int n_pos = span_y * lm.stride + span_x + 1;
-                const ushort* s = &scores[0];
-                for (int p = firstAbove16(s, n_pos, (ushort)raw_thr); p < n_pos;
-                     p += 1 + firstAbove16(s + p + 1, n_pos - p - 1, (ushort)raw_thr))
+                hits.resize(n_pos);
+                const int n_hits = positionsAbove16(&scores[0], n_pos, (ushort)raw_thr,
+                                                    &hits[0]);
+                for (int h = 0; h < n_hits; ++h)
                 {
+                    const int p = hits[h];
                     const int r = p / lm.stride, c = p - r * lm.stride;
                     if (c > span_x)
                         continue;
-                    sc.raw = s[p];
+                    sc.raw = scores[p];
                     keepBest(bb + (size_t)(r * lm.cells_x + c) * K, K, sc);
                 }
             }

@@ -239,10 +239,8 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
         setUseOptimized(pass == 0);
         for (int len : { 203, 202, 33, 1, 0 })
         {
-            std::vector<int> found, expect;
-            for (int c = firstAbove16(&sc[0], len, 1000); c < len;
-                 c += 1 + firstAbove16(&sc[0] + c + 1, len - c - 1, 1000))
-                found.push_back(c);
+            std::vector<int> found(std::max(len, 1)), expect;
+            found.resize(positionsAbove16(&sc[0], len, 1000, &found[0]));
             for (int c = 0; c < len; ++c)
                 if (sc[c] > 1000)
                     expect.push_back(c);
