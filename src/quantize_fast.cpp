@@ -1354,10 +1354,6 @@ void orRows(const uchar* first, size_t step, int n, int cols, uchar* d)
     }
 }
 
-} // namespace
-
-namespace {
-
 // response[o] = 4 - (circular distance from o to the nearest label present), 0 beyond 3: the
 // number of the nested label sets {o}, {o, o+-1}, {o..o+-2}, {o..o+-3} that meet the pixel.
 struct ResponseTables

@@ -100,7 +100,9 @@ CV_EXPORTS void quantizeAllLevels(const std::vector<Ptr<cv::linemod::Modality> >
 
 /** Vectorised, parallel detail::spreadLabels(): same signature, same output. */
 CV_EXPORTS void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad);
-/** Vectorised, parallel detail::computeResponseMaps(): same signature, same output. */
+/** Vectorised, parallel detail::computeResponseMaps(): same signature, same output (whole
+response-map images, for the tests and the perf tests' full-frame pipeline; match() computes the
+responses in its readers' layouts, spreadResponses()). */
 CV_EXPORTS void computeResponseMapsFast(const Mat& spread, std::vector<Mat>& response);
 /** Spread labels (pad 0) of the pixels of `tile` only, written in place into `spread` (CV_8UC1,
 the size of `src`, allocated by the caller): there they equal spreadLabelsFast(src, spread, T,

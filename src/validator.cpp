@@ -62,29 +62,21 @@ void PaddedResponses::featureOffsets(const TemplatePyramid& tp, int level_index,
 
 // Cell columns [c0, c1] of cell row `cy` of one modality's memories (`row`: label 0, offset
 // (0, 0), that cell row; `plane` between consecutive offsets): the responses of the spread
-// pixels (cx T + dx, cy T + dy) inside the image, 0 outside. One gather of the cells' pixels,
-// then the 8 responses of the gathered row at once.
+// pixels (cx T + dx, cy T + dy) inside the image (the memories stay 0 outside). One gather of
+// the cells' pixels, then the 8 responses of the gathered row at once.
 static void linearizeCells(const Mat& spread, int T, int cy, int c0, int c1, uchar* row,
                            size_t plane, uchar* gathered)
 {
-    const int n = c1 - c0 + 1;
-    for (int dy = 0; dy < T; ++dy)
+    for (int dy = 0; dy < T && cy * T + dy < spread.rows; ++dy)
     {
-        const int y = cy * T + dy;
+        const uchar* src = spread.ptr<uchar>(cy * T + dy);
         for (int dx = 0; dx < T; ++dx)
         {
-            if (y < spread.rows)
-            {
-                const uchar* src = spread.ptr<uchar>(y);
-                const int last = std::min(c1, (spread.cols - 1 - dx) / T);
-                int cx = c0;
-                for (; cx <= last; ++cx)
-                    gathered[cx - c0] = src[cx * T + dx];
-                for (; cx <= c1; ++cx)
-                    gathered[cx - c0] = 0;
-            }
-            else
-                std::memset(gathered, 0, n);
+            const int n = std::min(c1, (spread.cols - 1 - dx) / T) - c0 + 1;
+            if (n <= 0)
+                continue;
+            for (int k = 0; k < n; ++k)
+                gathered[k] = src[(c0 + k) * T + dx];
             uchar* d[8];
             for (int o = 0; o < 8; ++o)
                 d[o] = row + ((size_t)o * T * T + dy * T + dx) * plane + c0;
