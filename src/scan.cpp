@@ -50,7 +50,9 @@ struct ScanContext
 
 // Outcome of a location: candidates, or the reason it left (rejection map codes).
 // NOT_SCANNED: no group left to traverse (all searched exhaustively): -1 in the map, not counted.
-enum { ACCEPTED = -1, FLAT = -2, DEPTH_RANGE = -3, NOT_SCANNED = -4 };
+// A group's own verdict on a location is ACCEPTED, FLAT, its deepest rejecting forest depth, or
+// NOT_VISITED (not traversed there).
+enum { ACCEPTED = -1, FLAT = -2, DEPTH_RANGE = -3, NOT_SCANNED = -4, NOT_VISITED = -5 };
 
 struct RowOutput
 {
@@ -58,6 +60,21 @@ struct RowOutput
     std::vector<int> count;
     std::vector<int> rows;
     MatchCounters counters;
+    std::vector<int64> pairs;      //!< sample rows: [group] candidates counted
+    /** Sample rows: per location of the row, DEPTH_RANGE or NOT_VISITED ([c * (groups + 1)])
+    then the verdict of every group; its code is known once the exhaustive groups are. */
+    std::vector<short> verdicts;
+};
+
+// The sample rows' limits: a group leaves the scan (exhaustive search) once its pairs on the
+// sample, extrapolated by `scale`, pass `limit[g]` (exhaustive_ratio x templates x positions).
+struct SampleLimits
+{
+    std::vector<int64> pairs;      //!< [group]: counted on the sample rows scanned before
+    std::vector<double> limit;     //!< [group]
+    double scale;
+
+    bool passed(int g, int64 more) const { return (double)(pairs[g] + more) * scale > limit[g]; }
 };
 
 // Per worker: the candidates of a location as a bit set over the index rows (the leaves of every
@@ -74,6 +91,8 @@ struct ScanScratch
     std::vector<uchar> count8;
     std::vector<ushort> count16;
     std::vector<uchar> flat, root_ok;
+    std::vector<short> verdict;    //!< [group]: the location's verdicts (visitGroups)
+    std::vector<uchar> cut;        //!< [group]: passed its sample limit within this row
 };
 
 } // namespace
@@ -219,24 +238,47 @@ static void rowTests(const ScanContext& ctx, int r, int W, ScanScratch& s)
     }
 }
 
-// Every active search group: a flat window, or its forest (every tree); the location leaves when
-// every group rejects it, its candidates are the union of the accepting trees' leaves (as index
-// rows, marked in s.bits). Returns ACCEPTED, FLAT or the deepest rejecting forest depth.
-static int visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch& s)
+// A location's code from its groups' verdicts: ACCEPTED when one group accepts it, FLAT when every
+// visited group found its window flat, else the deepest rejecting depth; NOT_SCANNED when no
+// group was visited.
+static int locationCode(const short* verdict, int groups)
+{
+    int flat = 0, deepest = -1, visited = 0;
+    for (int g = 0; g < groups; ++g)
+    {
+        const int v = verdict[g];
+        if (v == NOT_VISITED)
+            continue;
+        if (v == ACCEPTED)
+            return ACCEPTED;
+        ++visited;
+        if (v == FLAT)
+            ++flat;
+        else
+            deepest = std::max(deepest, v);
+    }
+    if (visited == 0)
+        return NOT_SCANNED;
+    return flat == visited ? FLAT : deepest;
+}
+
+// Every active search group (not cut in this row): a flat window, or its forest (every tree);
+// each group's verdict goes to s.verdict, the candidates of the accepting groups are the union
+// of their accepting trees' leaves (as index rows, marked in s.bits).
+static void visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch& s)
 {
     const ScenePyramid& scene = *ctx.scene;
     const int NG = (int)ctx.groups.size();
-    int flat = 0, deepest = -1, visited = 0;
-    bool accepted = false;
     for (int gi = 0; gi < NG; ++gi)
     {
-        if (!ctx.active[gi])
+        short& verdict = s.verdict[gi];
+        verdict = NOT_VISITED;
+        if (!ctx.active[gi] || s.cut[gi])
             continue;
-        ++visited;
         const SearchGroup& grp = *ctx.groups[gi];
         if (s.flat[gi * W + c])
         {
-            ++flat;
+            verdict = FLAT;
             continue;
         }
         // the trees (TemplateForest::query's rule): with reject_any_tree one rejecting tree
@@ -275,10 +317,10 @@ static int visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch&
         }
         if (rejected_any || s.leaves.empty())
         {
-            deepest = std::max(deepest, rdepth);
+            verdict = (short)rdepth;
             continue;
         }
-        accepted = true;
+        verdict = ACCEPTED;
         const int* rows = &grp.rows[0];
         uint64* bits = &s.bits[0];
         for (size_t k = 0; k < s.leaves.size(); ++k)
@@ -291,11 +333,20 @@ static int visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch&
             }
         }
     }
-    if (accepted)
-        return ACCEPTED;
-    if (visited == 0)
-        return NOT_SCANNED;
-    return flat == visited ? FLAT : deepest;
+}
+
+// Counts a location's code (and writes it into the rejection map when asked).
+static void countCode(int code, int c, int r, Mat* map, MatchCounters& counters)
+{
+    ++counters.locations;
+    if (map)
+        map->at<short>(r, c) = (short)(code == NOT_SCANNED ? ACCEPTED : code);
+    if (code == DEPTH_RANGE)
+        ++counters.rejected_depth_range;
+    else if (code == FLAT)
+        ++counters.rejected_flat;
+    else if (code >= 0)
+        counters.rejectedAtDepth(code);
 }
 
 static inline int lowestBit(uint64 w)
@@ -313,28 +364,40 @@ static inline int lowestBit(uint64 w)
 #endif
 }
 
-// One row of locations. `pairs` (size of ctx.groups), when given, counts the candidates of each
-// group.
+// One row of locations. A sample row (`sample` given) counts the candidates of each group in
+// out.pairs, leaves a group out of the rest of the row once it passes its limit (it is searched
+// exhaustively whatever the other locations hold) and keeps the groups' verdicts for the
+// location codes, which wait for the exhaustive groups to be known.
 static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& out,
-                    ScanScratch& s, std::vector<int64>* pairs)
+                    ScanScratch& s, const SampleLimits* sample)
 {
     const std::vector<uchar>& allowed = *ctx.row_allowed;
     const int words = (int)s.bits.size();
+    const int NG = (int)ctx.groups.size();
+    std::fill(s.cut.begin(), s.cut.end(), (uchar)0);
+    if (sample)
+    {
+        out.pairs.assign(NG, 0);
+        out.verdicts.resize((size_t)W * (NG + 1));
+    }
     rowTests(ctx, r, W, s);
     for (int c = 0; c < W; ++c)
     {
-        ++out.counters.locations;
         int code = DEPTH_RANGE;
         if (!ctx.check_depth || !outOfDepthRange(ctx, c, r))
-            code = visitGroups(ctx, c, r, W, s);
-        if (map)
-            map->at<short>(r, c) = (short)(code == NOT_SCANNED ? ACCEPTED : code);
-        if (code == DEPTH_RANGE)
-            ++out.counters.rejected_depth_range;
-        else if (code == FLAT)
-            ++out.counters.rejected_flat;
-        else if (code >= 0)
-            out.counters.rejectedAtDepth(code);
+        {
+            visitGroups(ctx, c, r, W, s);
+            code = locationCode(&s.verdict[0], NG);
+        }
+        if (sample)
+        {
+            short* v = &out.verdicts[(size_t)c * (NG + 1)];
+            v[0] = (short)(code == DEPTH_RANGE ? DEPTH_RANGE : NOT_VISITED);
+            if (code != DEPTH_RANGE)
+                std::copy(s.verdict.begin(), s.verdict.begin() + NG, v + 1);
+        }
+        else
+            countCode(code, c, r, map, out.counters);
         if (code != ACCEPTED)
             continue;
         // the marked rows, ascending; the bit set is cleared for the next location
@@ -353,10 +416,14 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
                     continue;
                 out.rows.push_back(row);
                 ++n;
-                if (pairs)
-                    (*pairs)[ctx.group_of_row[row]]++;
+                if (sample)
+                    out.pairs[ctx.group_of_row[row]]++;
             }
         }
+        if (sample)
+            for (int g = 0; g < NG; ++g)
+                if (ctx.active[g] && !s.cut[g] && sample->passed(g, out.pairs[g]))
+                    s.cut[g] = 1;
         if (n == 0)
             continue;
         out.location.push_back(Point(c, r));
@@ -366,9 +433,9 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
     }
 }
 
-// Scans the given rows of locations in parallel; `pairs` per row when given.
+// Scans the given rows of locations in parallel (as sample rows when `sample` is given).
 static void scanRows(const ScanContext& ctx, const std::vector<int>& which, int W, Mat* map,
-                     std::vector<RowOutput>& rows, std::vector<std::vector<int64> >* pairs)
+                     std::vector<RowOutput>& rows, const SampleLimits* sample)
 {
     parallel_for_(Range(0, (int)which.size()), [&](const Range& range) {
         ScanScratch s;
@@ -382,13 +449,10 @@ static void scanRows(const ScanContext& ctx, const std::vector<int>& which, int 
         s.count16.resize(X);
         s.flat.resize(ctx.groups.size() * W + 1);
         s.root_ok.resize(ctx.groups.size() * ctx.max_trees * W + 1);
+        s.verdict.resize(ctx.groups.size() + 1);
+        s.cut.resize(ctx.groups.size() + 1);
         for (int i = range.start; i < range.end; ++i)
-        {
-            const int r = which[i];
-            if (pairs)
-                (*pairs)[r].assign(ctx.groups.size(), 0);
-            scanRow(ctx, r, W, map, rows[r], s, pairs ? &(*pairs)[r] : 0);
-        }
+            scanRow(ctx, which[i], W, map, rows[which[i]], s, sample);
     });
 }
 
@@ -423,7 +487,6 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
     for (int r = 0; r < H; ++r)
         (ratio > 0.f && (r % kSample == kSample / 2 || (H <= kSample / 2 && r == H / 2))
              ? sample : rest).push_back(r);
-    std::vector<std::vector<int64> > pairs(H);
     if (ratio == 0.f)
     {
         for (int g = 0; g < NG; ++g)
@@ -431,24 +494,27 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
     }
     else if (!sample.empty())
     {
-        // in two halves: a group whose pairs on the first half alone pass the limit goes to the
-        // exhaustive search whatever the second half holds (its count only grows), so the second
-        // half skips it; the decisions are those of the whole sample
-        std::vector<int> halves[2];
-        for (size_t i = 0; i < sample.size(); ++i)
-            halves[i % 2].push_back(sample[i]);
-        const double scale = (double)H / sample.size();
-        std::vector<int64> p(NG, 0);
-        for (int h = 0; h < 2; ++h)
+        // as many rows at a time as there are threads: a group that passes the limit on the rows
+        // scanned so far leaves the following ones (and the rest of a row as soon as that row
+        // alone passes it: its count only grows). The decisions are those of the whole sample,
+        // whatever the threads.
+        SampleLimits limits;
+        limits.scale = (double)H / sample.size();
+        limits.pairs.assign(NG, 0);
+        limits.limit.resize(NG);
+        for (int g = 0; g < NG; ++g)
+            limits.limit[g] = ratio * (double)templates[g] * positions;
+        const size_t batch = (size_t)std::max(1, getNumThreads());
+        for (size_t b = 0; b < sample.size(); b += batch)
         {
-            if (halves[h].empty())
-                continue;
-            scanRows(ctx, halves[h], W, map, rows, &pairs);
+            const std::vector<int> part(sample.begin() + b,
+                                        sample.begin() + std::min(sample.size(), b + batch));
+            scanRows(ctx, part, W, map, rows, &limits);
             for (int g = 0; g < NG; ++g)
             {
-                for (size_t i = 0; i < halves[h].size(); ++i)
-                    p[g] += pairs[halves[h][i]][g];
-                if (p[g] * scale > ratio * (double)templates[g] * positions)
+                for (size_t i = 0; i < part.size(); ++i)
+                    limits.pairs[g] += rows[part[i]].pairs[g];
+                if (ctx.active[g] && limits.passed(g, 0))
                     ctx.active[g] = 0;
             }
         }
@@ -456,10 +522,25 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
     if (ratio >= 0.f)
         for (int g = 0; g < NG; ++g)
             out.exhaustive[ctx.group_index[g]] = !ctx.active[g] && templates[g] > 0;
-    // the sample rows lose the candidates of the groups searched exhaustively
+    // the sample rows: their locations' codes from the groups that stay (as the other rows'), and
+    // they lose the candidates of the groups searched exhaustively
     for (size_t i = 0; i < sample.size(); ++i)
     {
-        RowOutput& ro = rows[sample[i]];
+        const int r = sample[i];
+        RowOutput& ro = rows[r];
+        for (int c = 0; c < W; ++c)
+        {
+            short* v = &ro.verdicts[(size_t)c * (NG + 1)];
+            int code = DEPTH_RANGE;
+            if (v[0] != DEPTH_RANGE)
+            {
+                for (int g = 0; g < NG; ++g)
+                    if (!ctx.active[g])
+                        v[1 + g] = NOT_VISITED;
+                code = locationCode(v + 1, NG);
+            }
+            countCode(code, c, r, map, ro.counters);
+        }
         size_t k = 0, j = 0, kept_locations = 0;
         for (size_t l = 0; l < ro.location.size(); ++l)
         {

@@ -43,9 +43,9 @@ the depth-range test runs when the scene has depth and DetectorParams::depth_ran
 With DetectorParams::exhaustive_ratio > 0, every 8th row of locations goes first through every
 group; the groups whose forest let more (location, candidate) pairs through there than the ratio
 allows (extrapolated to the frame) are marked `exhaustive` and left out of the other rows (their
-locations are neither rejected nor validated by them). The sample rows go in two halves: a group
-that passes the limit on the first half skips the second. 0: every group exhaustive, no
-forest. */
+locations are neither rejected nor validated by them, in the sample rows as in the others). A
+group leaves the sample as soon as the rows scanned so far pass its limit. 0: every group
+exhaustive, no forest. */
 void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
                    const DetectorParams& params, const std::vector<uchar>& row_allowed,
                    bool rejection_map, LocationCandidates& out);

@@ -870,8 +870,8 @@ TEST(Forestmod_QuantizeFast, few_tiles_quantized_in_place)
     }
 }
 
-// match() with the scene pyramid's fast paths and on-demand tiles gives the same matches with 1
-// and 4 threads, and its quantized_images are the modalities' own: the golden models (RGB and
+// match() with the scene pyramid's fast paths and on-demand tiles gives the same matches and scan
+// outcome with 1 and 4 threads, and its quantized_images are the modalities' own: the golden models (RGB and
 // RGB-D ape), 1 tree and exhaustive, on a shipped frame and a golden RGB-D scene.
 TEST(Forestmod_QuantizeFast, match_same_with_1_and_4_threads)
 {
@@ -898,12 +898,24 @@ TEST(Forestmod_QuantizeFast, match_same_with_1_and_4_threads)
             det.setParams(p);
             std::vector<linemod::Match> one, four;
             std::vector<Mat> q1, q4;
+            DetectionStats s1, s4;
             setNumThreads(1);
-            det.match(src, 70.f, one, std::vector<String>(), q1);
+            det.match(src, 70.f, one, std::vector<String>(), q1, std::vector<Mat>(), &s1);
             setNumThreads(4);
-            det.match(src, 70.f, four, std::vector<String>(), q4);
+            det.match(src, 70.f, four, std::vector<String>(), q4, std::vector<Mat>(), &s4);
             setNumThreads(old_threads);
             ASSERT_EQ(one.size(), four.size()) << "rgbd " << rgbd << " exhaustive " << exhaustive;
+            // the scan (its sample rows go as many at a time as there are threads): the same
+            // outcome at every location, the same exhaustive groups
+            ASSERT_EQ(s1.rejection_map.size(), s4.rejection_map.size());
+            if (!exhaustive)
+            {
+                ASSERT_FALSE(s1.rejection_map.empty());
+                EXPECT_EQ(0, differences(s1.rejection_map, s4.rejection_map));
+            }
+            EXPECT_EQ(s1.validated, s4.validated);
+            EXPECT_EQ(s1.candidates, s4.candidates);
+            EXPECT_EQ(s1.rejected, s4.rejected);
             for (size_t k = 0; k < one.size(); ++k)
             {
                 EXPECT_EQ(one[k].x, four[k].x);

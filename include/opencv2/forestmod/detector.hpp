@@ -132,7 +132,7 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_PROP int64 rejected_depth_range; //!< of which: scene depth outside the templates' range
     /** locations that reached validation with candidates (the locations of a search group
     searched exhaustively, DetectorParams::exhaustive_ratio, are neither rejected nor validated
-    by it outside the scan's sample rows) */
+    by it) */
     CV_PROP int64 validated;
     CV_PROP int64 candidates;        //!< candidate templates validated, summed over locations
     CV_PROP std::vector<int64> rejected_at_depth; //!< rejected locations per forest depth
