@@ -294,8 +294,7 @@ static void splitLookups(Tree& t)
 // lanes of a comparison mask (0 or 255) that are set
 static inline int setLanes(const v_uint8x16& mask)
 {
-    const v_uint8x16 a = mask & v_setall_u8(1);
-    return (int)(v_reduce_sum(v_expand_low(a)) + v_reduce_sum(v_expand_high(a)));
+    return (int)v_reduce_sum(mask & v_setall_u8(1));
 }
 #endif
 
