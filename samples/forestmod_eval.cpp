@@ -160,11 +160,15 @@ static int run(const EvalOptions& opt)
     if (!loadObjects(opt, ds, objects))
         return 1;
 
-    const std::vector<fm::Frame> dframes = ds.frames(opt.scene);
+    std::vector<fm::Frame> dframes = ds.frames(opt.scene);
+    // --first_frame: frames held out of a run (e.g. to set a parameter on frames not reported)
+    dframes.erase(dframes.begin(),
+                  dframes.begin() + std::min<size_t>((size_t)opt.first_frame, dframes.size()));
     if (dframes.empty())
     {
         std::cerr << "forestmod_eval: scene " << opt.scene << " of " << opt.root << "/"
-                  << opt.split << " has no frames\n";
+                  << opt.split << " has no frames (after --first_frame=" << opt.first_frame
+                  << ")\n";
         return 1;
     }
     const size_t nuse = opt.max_frames > 0 ? std::min<size_t>(opt.max_frames, dframes.size())
@@ -232,8 +236,9 @@ static int run(const EvalOptions& opt)
                "the other meshes, backgrounds from %d frames of %s scene %d)\n",
                opt.synthetic, (int)nuse, opt.root.c_str(), opt.scene);
     else
-        printf("- data: %s, split %s, scene %d, %d frames\n", opt.root.c_str(),
-               opt.split.c_str(), opt.scene, (int)frames.size());
+        printf("- data: %s, split %s, scene %d, %d frames (the first %d skipped)\n",
+               opt.root.c_str(), opt.split.c_str(), opt.scene, (int)frames.size(),
+               opt.first_frame);
     printf("- mode: %s; modalities %s; pyramid T = {5, 8}; threshold %.0f; %d OpenCV "
            "thread(s) while matching (cv::setNumThreads; %d while training the forests)\n",
            mode.c_str(), modnames.c_str(), opt.threshold, opt.threads, opt.train_threads);

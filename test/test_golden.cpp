@@ -18,8 +18,9 @@
 // Inputs, all shipped: model files with the shipped ape's templates (RGB: gradient + hue; RGB-D:
 // + depth normals; two distances, so two search groups) written by save(), which doubles as the
 // test that older model files load and match alike; the three shipped real LM-O frames; two
-// rendered RGB-D scenes. Each detector is run with 1 tree (the file's forests), 5 trees
-// (retrained after load) and exhaustively (use_forest = false).
+// rendered RGB-D scenes. Each detector is run with 1 tree (the file's forests; also with
+// exhaustive_ratio < 0, the forest path in every group), 5 trees (retrained after load) and
+// exhaustively (use_forest = false).
 
 #include "test_precomp.hpp"
 
@@ -101,7 +102,8 @@ struct GoldenCase
     DetectionStats stats;
 };
 
-// The cases of one model: 1 tree, 5 trees, exhaustive, on every frame of its kind.
+// The cases of one model: 1 tree (with and without the exhaustive search of the groups that
+// reject little), 5 trees, exhaustive, on every frame of its kind.
 static std::vector<GoldenCase> runModel(bool rgbd)
 {
     std::vector<GoldenCase> out;
@@ -134,14 +136,22 @@ static std::vector<GoldenCase> runModel(bool rgbd)
     cv::forestmod::Detector det;
     det.load(goldenFile(cv::format("ape_%s.yml.gz", kind.c_str())));
     EXPECT_TRUE(det.isTrained()) << "the model file holds its forests";
-    const char* modes[] = { "1tree", "5trees", "exhaustive" };
-    for (int mode = 0; mode < 3; ++mode)
+    // 1tree_forest: no group goes to the exhaustive search (on the real frames the default
+    // exhaustive_ratio sends them all there), so the forests' scan is recorded on those too
+    const char* modes[] = { "1tree", "1tree_forest", "5trees", "exhaustive" };
+    const DetectorParams file_params = det.getParams();
+    for (int mode = 0; mode < 4; ++mode)
     {
         if (mode > 0)
         {
-            DetectorParams p = det.getParams();
-            p.forest.num_trees = 5;
-            p.use_forest = mode == 1;
+            DetectorParams p = file_params;
+            if (mode == 1)
+                p.exhaustive_ratio = -1.f;
+            else
+            {
+                p.forest.num_trees = 5;
+                p.use_forest = mode == 2;
+            }
             det.setParams(p);
         }
         for (size_t k = 0; k < colors.size(); ++k)

@@ -35,6 +35,7 @@ struct EvalOptions
     int scene;
     std::vector<int> object_ids;   //!< empty: every model with a mesh
     int max_frames;                //!< 0: all
+    int first_frame;               //!< frames of the scene skipped
     int synthetic;
     bool rgb_only;
     std::vector<std::string> modalities_arg;

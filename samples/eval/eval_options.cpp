@@ -29,6 +29,8 @@ static const char* const keys
       "{objects         |          | comma-separated object ids (default: every model with a "
       "mesh) }"
       "{frames          | 0        | frames to use (0: all) }"
+      "{first_frame     | 0        | frames of the scene skipped before those used (to set a "
+      "parameter on frames that a run without it reports) }"
       "{synthetic       | 0        | N > 0: evaluate on N rendered RGB-D scenes per object instead "
       "of the dataset's frames (ADD/ADI) }"
       "{rgb_only        |          | ignore the dataset's (or the rendered scenes') depth "
@@ -91,7 +93,7 @@ static const char* const keys
       "{force           |          | overwrite the --json file, heat maps and plots }";
 
 EvalOptions::EvalOptions()
-    : scene(2), max_frames(0), synthetic(0), rgb_only(false), threshold(80.f), rgb_refine(true),
+    : scene(2), max_frames(0), first_frame(0), synthetic(0), rgb_only(false), threshold(80.f), rgb_refine(true),
       rgb_grid(false), regime("paper"), tables(true), multi(true), heat_frames(3), threads(1),
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
@@ -204,6 +206,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.scene = parser.get<int>("scene");
     const std::string objects_arg = parser.get<std::string>("objects");
     opt.max_frames = parser.get<int>("frames");
+    opt.first_frame = parser.get<int>("first_frame");
     opt.synthetic = parser.get<int>("synthetic");
     opt.rgb_only = parser.has("rgb_only");
     opt.modalities_arg = splitList(parser.get<std::string>("modalities"));
@@ -311,11 +314,11 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
         return fail("--dataset is required (see --help)");
     if (!cv::utils::fs::exists(opt.root + "/camera.json"))
         return fail("no BOP dataset at " + opt.root + " (camera.json not found)");
-    if (opt.max_frames < 0 || opt.synthetic < 0 || opt.threads < 1 || opt.train_threads < 1
+    if (opt.max_frames < 0 || opt.first_frame < 0 || opt.synthetic < 0 || opt.threads < 1 || opt.train_threads < 1
         || opt.heat_frames < 0 || opt.threshold <= 0 || opt.threshold > 100 || opt.repeat < 1
         || opt.sweep_frames < 0 || opt.sweep_per_class < 0)
-        return fail("--frames, --synthetic, --heatmap_frames, --sweep_frames, --sweep_per_class "
-                    "must be >= 0, --threads, --train_threads and --repeat >= 1, --threshold in "
+        return fail("--frames, --first_frame, --synthetic, --heatmap_frames, --sweep_frames, "
+                    "--sweep_per_class must be >= 0, --threads, --train_threads and --repeat >= 1, --threshold in "
                     "(0, 100]");
     if (!opt.tables && !opt.sweep_templates && !opt.sweep_objects)
         return fail("--tables=false and --sweep=none: nothing to do");
