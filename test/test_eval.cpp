@@ -386,6 +386,32 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
     EXPECT_EQ(2u, cached.size());
 }
 
+// --first_frame skips the scene's first frames (a parameter is set on frames that the reported
+// runs do not use), and skipping them all is an error that says so.
+TEST(Forestmod_Eval, first_frame_skips_the_first_frames)
+{
+    const std::string eval = samplePath("forestmod_eval");
+    const std::string dir = tempDir("forestmod_eval_first_frame");
+    const std::string root = dir + "/data";
+    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 3));
+    const std::string json = dir + "/out.json";
+    const std::string common = "'" + eval + "' --dataset='" + root + "' --scene=1 --objects=1 "
+        "--no_multi --five_trees=false --level=0 --min_elevation=0 --radii=700 "
+        "--inplane=0,0,15 --sweep=none --repeat=1 --cache='" + dir + "/cache'";
+    std::string out, err;
+    ASSERT_EQ(0, run(common + " --first_frame=2 --json='" + json + "'", dir, out, err))
+        << out << err;
+    EXPECT_NE(std::string::npos, out.find("1 frames (the first 2 skipped)")) << out;
+    cv::FileStorage fs = readJson(json);
+    ASSERT_TRUE(fs.isOpened());
+    EXPECT_EQ(1, (int)fs["frames"]);
+    EXPECT_NE(0, run(common + " --first_frame=3", dir, out, err));
+    EXPECT_NE(std::string::npos, (out + err).find("has no frames (after --first_frame=3)"))
+        << out << err;
+    EXPECT_NE(0, run(common + " --first_frame=-1", dir, out, err));
+    EXPECT_NE(std::string::npos, (out + err).find("--first_frame")) << out << err;
+}
+
 TEST(Forestmod_Eval, synthetic_scenes_give_add)
 {
     const std::string eval = samplePath("forestmod_eval");
