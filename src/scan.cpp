@@ -456,6 +456,55 @@ static void scanRows(const ScanContext& ctx, const std::vector<int>& which, int 
     });
 }
 
+// The sample rows once the exhaustive groups are known: their locations' codes and counters from
+// the groups that stay (as the other rows'), and they lose the candidates of the groups searched
+// exhaustively.
+static void finishSampleRows(const ScanContext& ctx, const std::vector<int>& sample, int W,
+                             Mat* map, std::vector<RowOutput>& rows)
+{
+    const int NG = (int)ctx.groups.size();
+    for (size_t i = 0; i < sample.size(); ++i)
+    {
+        const int r = sample[i];
+        RowOutput& ro = rows[r];
+        for (int c = 0; c < W; ++c)
+        {
+            short* v = &ro.verdicts[(size_t)c * (NG + 1)];
+            int code = DEPTH_RANGE;
+            if (v[0] != DEPTH_RANGE)
+            {
+                for (int g = 0; g < NG; ++g)
+                    if (!ctx.active[g])
+                        v[1 + g] = NOT_VISITED;
+                code = locationCode(v + 1, NG);
+            }
+            countCode(code, c, r, map, ro.counters);
+        }
+        size_t k = 0, j = 0, kept_locations = 0;
+        for (size_t l = 0; l < ro.location.size(); ++l)
+        {
+            int n = 0;
+            for (int e = 0; e < ro.count[l]; ++e, ++j)
+                if (ctx.active[ctx.group_of_row[ro.rows[j]]])
+                {
+                    ro.rows[k++] = ro.rows[j];
+                    ++n;
+                }
+            ro.counters.candidates -= ro.count[l] - n;
+            if (n == 0)
+            {
+                --ro.counters.validated;
+                continue;
+            }
+            ro.location[kept_locations] = ro.location[l];
+            ro.count[kept_locations++] = n;
+        }
+        ro.rows.resize(k);
+        ro.location.resize(kept_locations);
+        ro.count.resize(kept_locations);
+    }
+}
+
 void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
                    const DetectorParams& params, const std::vector<uchar>& row_allowed,
                    bool rejection_map, LocationCandidates& out)
@@ -522,48 +571,7 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
     if (ratio >= 0.f)
         for (int g = 0; g < NG; ++g)
             out.exhaustive[ctx.group_index[g]] = !ctx.active[g] && templates[g] > 0;
-    // the sample rows: their locations' codes from the groups that stay (as the other rows'), and
-    // they lose the candidates of the groups searched exhaustively
-    for (size_t i = 0; i < sample.size(); ++i)
-    {
-        const int r = sample[i];
-        RowOutput& ro = rows[r];
-        for (int c = 0; c < W; ++c)
-        {
-            short* v = &ro.verdicts[(size_t)c * (NG + 1)];
-            int code = DEPTH_RANGE;
-            if (v[0] != DEPTH_RANGE)
-            {
-                for (int g = 0; g < NG; ++g)
-                    if (!ctx.active[g])
-                        v[1 + g] = NOT_VISITED;
-                code = locationCode(v + 1, NG);
-            }
-            countCode(code, c, r, map, ro.counters);
-        }
-        size_t k = 0, j = 0, kept_locations = 0;
-        for (size_t l = 0; l < ro.location.size(); ++l)
-        {
-            int n = 0;
-            for (int e = 0; e < ro.count[l]; ++e, ++j)
-                if (ctx.active[ctx.group_of_row[ro.rows[j]]])
-                {
-                    ro.rows[k++] = ro.rows[j];
-                    ++n;
-                }
-            ro.counters.candidates -= ro.count[l] - n;
-            if (n == 0)
-            {
-                --ro.counters.validated;
-                continue;
-            }
-            ro.location[kept_locations] = ro.location[l];
-            ro.count[kept_locations++] = n;
-        }
-        ro.rows.resize(k);
-        ro.location.resize(kept_locations);
-        ro.count.resize(kept_locations);
-    }
+    finishSampleRows(ctx, sample, W, map, rows);
     // 2. the other rows through the groups that stay
     scanRows(ctx, rest, W, map, rows, 0);
 
