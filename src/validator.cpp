@@ -352,31 +352,39 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
 }
 
 // ------------------------------------------------------------------------------------------------
-// The forest path: breadth-first validation of every location's candidates
+// The forest path: breadth-first validation of every location's candidates, template by template
 
 namespace {
 
 // What validation reads, prepared once per frame: the padded maps and, per candidate template,
-// its feature offsets (modality by modality) and its anchor shift.
+// its feature offsets in chunk order (chunk k of template t: offsets[chunk_begin[chunks[t] + k]
+// .. chunk_begin[chunks[t] + k + 1]), every chunk the same share of each modality's features)
+// and its anchor shift.
 struct ValidationContext
 {
     PaddedResponses maps;
-    std::vector<int> first;    //!< [row]: index in `templ` or -1
-    std::vector<int> begin;    //!< [t * (M + 1) + m]: into `offsets`
+    std::vector<int> first;       //!< [row]: index in `templ` or -1
+    std::vector<int> chunks;      //!< [t]: into chunk_begin
+    std::vector<int> num_chunks;  //!< [t]
+    std::vector<int> chunk_begin; //!< into offsets
     std::vector<int> offsets;
-    std::vector<Point> half;   //!< [t]: top-left of the template from its location
-    std::vector<int> rows;     //!< [t]: index row
-    int M;
+    std::vector<Point> half;      //!< [t]: top-left of the template from its location
+    std::vector<int> rows;        //!< [t]: index row
 };
 
-// A candidate of one location.
-struct Candidate
+// The (location, candidate) pairs of a block of locations, structure of arrays, with the
+// locations' alive lists and the pairs in template order: per-worker scratch, allocated once
+// per block range, never per location.
+struct PairBlock
 {
-    int t;        //!< into ValidationContext's templates
-    int base;     //!< top-left's offset in a plane
-    int raw;      //!< accumulated raw score
-    int scored;   //!< features scored so far
-    int total;    //!< features (all modalities)
+    std::vector<int> t, base, raw, scored, loc;  //!< per pair
+    std::vector<uchar> dead;                     //!< per pair
+    std::vector<int> begin, alive_n;             //!< per location of the block
+    std::vector<uchar> active;                   //!< per location: still in the rounds
+    std::vector<int> alive;      //!< [begin[i] .. begin[i] + alive_n[i]): location i's alive pairs
+    std::vector<int> by_template, order;         //!< pairs sorted by template, then location
+    std::vector<int> local, used, count;         //!< counting sort: [t] -> local id, ...
+    std::vector<float> scores, sorted;
 };
 
 } // namespace
@@ -408,159 +416,264 @@ void scoreAt(const PaddedResponses& maps, const TemplatePyramid& templ, int leve
     }
 }
 
-// Adds chunk k of K of a candidate: the fraction [k/K, (k+1)/K) of every modality's features, so
-// that every chunk samples all modalities and the whole object (features are scattered).
-static void scoreChunk(const ValidationContext& ctx, Candidate& c, int k, int K)
-{
-    const uchar* p = &ctx.maps.data[0] + c.base;
-    const int* b = &ctx.begin[(size_t)c.t * (ctx.M + 1)];
-    for (int m = 0; m < ctx.M; ++m)
-    {
-        const int n = b[m + 1] - b[m];
-        const int s = static_cast<int>((int64)n * k / K);
-        const int e = static_cast<int>((int64)n * (k + 1) / K);
-        c.raw += sumAt(p, &ctx.offsets[b[m] + s], e - s);
-        c.scored += e - s;
-    }
-}
-
-static void scoreAll(const ValidationContext& ctx, Candidate& c)
-{
-    const int* b = &ctx.begin[(size_t)c.t * (ctx.M + 1)];
-    c.raw = sumAt(&ctx.maps.data[0] + c.base, &ctx.offsets[b[0]], b[ctx.M] - b[0]);
-    c.scored = c.total;
-}
-
-// Breadth-first preemptive validation (paper): features in chunks of chunk_size; after each
-// chunk keep the candidates whose normalised score raw / (4 scored) is >= the median of the
-// survivors and > alpha; stop when max_survivors (paper: 1) or fewer are left (or features run
-// out). Every chunk takes the same share of each modality's features. The survivors are then
-// scored on all their features.
-static void validateBreadthFirst(const ValidationContext& ctx, std::vector<Candidate>& cands,
-                                 int chunk_size, float alpha, int max_survivors,
-                                 std::vector<int>& survivors, std::vector<int>& alive,
-                                 std::vector<int>& next, std::vector<float>& scores,
-                                 std::vector<float>& sorted)
-{
-    CV_Assert(chunk_size > 0 && max_survivors > 0);
-    survivors.clear();
-    alive.resize(cands.size());
-    for (size_t i = 0; i < cands.size(); ++i)
-        alive[i] = static_cast<int>(i);
-    for (int k = 0; (int)alive.size() > max_survivors; ++k)
-    {
-        bool any = false;
-        scores.clear();
-        for (size_t a = 0; a < alive.size(); ++a)
-        {
-            Candidate& c = cands[alive[a]];
-            const int K = std::max(1, (c.total + chunk_size - 1) / chunk_size);
-            if (k < K)
-            {
-                any = true;
-                scoreChunk(ctx, c, k, K);
-            }
-            scores.push_back(c.scored ? c.raw / (4.f * c.scored) : 0.f);
-        }
-        if (!any)
-            break;
-        sorted = scores;
-        std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-        const float median = sorted[sorted.size() / 2];
-        next.clear();
-        for (size_t a = 0; a < alive.size(); ++a)
-            if (scores[a] >= median && scores[a] > alpha)
-                next.push_back(alive[a]);
-        alive.swap(next);
-    }
-    for (size_t a = 0; a < alive.size(); ++a)
-    {
-        Candidate& c = cands[alive[a]];
-        if (c.scored < c.total)
-            scoreAll(ctx, c);
-        survivors.push_back(alive[a]);
-    }
-}
-
-namespace {
-// Per-worker scratch, allocated once per block range, never per location.
-struct Scratch
-{
-    std::vector<Candidate> vc;
-    std::vector<int> survivors, alive, next;
-    std::vector<float> scores, sorted;
-};
-} // namespace
-
-// One location: its candidates (those of the groups not searched exhaustively) scored, the best
-// survivors over the threshold appended to `out`.
-static void validateLocation(const ValidationContext& ctx, const LocationCandidates& cands, int i,
-                             const SearchIndex& index, const std::vector<uchar>& skip_row,
-                             const DetectorParams& params, float threshold, int T, Scratch& s,
-                             std::vector<cv::linemod::Match>& out)
+// The pairs of locations [i0, i1) (those of the groups not searched exhaustively), each
+// location's alive list all its pairs, and the pairs sorted by template (a counting sort over
+// the templates the block uses), each template's in location order.
+static void collectPairs(const ValidationContext& ctx, const LocationCandidates& cands, int i0,
+                         int i1, const std::vector<uchar>& skip_row, PairBlock& s)
 {
     const int S = cands.step;
-    const Point loc = cands.location[i];
-    s.vc.clear();
-    for (int k = cands.begin[i]; k < cands.begin[i + 1]; ++k)
+    s.t.clear(); s.base.clear(); s.loc.clear(); s.used.clear(); s.count.clear();
+    s.begin.assign(1, 0);
+    for (int i = i0; i < i1; ++i)
     {
-        const int row = cands.rows[k];
-        if (skip_row[row])
-            continue;
-        Candidate v;
-        v.t = ctx.first[row];
-        // the true anchor lies within S/2 of the location; spread responses cover [p, p + T):
-        // start S/2 before
-        const Point tl = Point(loc.x * S, loc.y * S) - ctx.half[v.t];
-        v.base = ctx.maps.at(tl.x, tl.y);
-        v.raw = v.scored = 0;
-        const int* b = &ctx.begin[(size_t)v.t * (ctx.M + 1)];
-        v.total = b[ctx.M] - b[0];
-        s.vc.push_back(v);
-    }
-    if (s.vc.empty())
-        return;
-    if (params.breadth_first)
-        validateBreadthFirst(ctx, s.vc, params.chunk_size, params.alpha, params.max_survivors,
-                             s.survivors, s.alive, s.next, s.scores, s.sorted);
-    else
-    {
-        s.survivors.resize(s.vc.size());
-        for (size_t k = 0; k < s.vc.size(); ++k)
+        const Point loc = cands.location[i];
+        for (int k = cands.begin[i]; k < cands.begin[i + 1]; ++k)
         {
-            scoreAll(ctx, s.vc[k]);
-            s.survivors[k] = (int)k;
+            const int row = cands.rows[k];
+            if (skip_row[row])
+                continue;
+            const int t = ctx.first[row];
+            // the true anchor lies within S/2 of the location; spread responses cover
+            // [p, p + T): start S/2 before
+            const Point tl = Point(loc.x * S, loc.y * S) - ctx.half[t];
+            s.t.push_back(t);
+            s.base.push_back(ctx.maps.at(tl.x, tl.y));
+            s.loc.push_back(i - i0);
+            if (s.local[t] < 0)
+            {
+                s.local[t] = static_cast<int>(s.used.size());
+                s.used.push_back(t);
+                s.count.push_back(0);
+            }
+            ++s.count[s.local[t]];
+        }
+        s.begin.push_back(static_cast<int>(s.t.size()));
+    }
+    const int n = static_cast<int>(s.t.size());
+    s.raw.assign(n, 0);
+    s.scored.assign(n, 0);
+    s.dead.assign(n, 0);
+    s.alive.resize(n);
+    for (int j = 0; j < n; ++j)
+        s.alive[j] = j;
+    s.alive_n.resize(i1 - i0);
+    for (int i = 0; i < i1 - i0; ++i)
+        s.alive_n[i] = s.begin[i + 1] - s.begin[i];
+    int acc = 0;
+    for (size_t u = 0; u < s.count.size(); ++u)
+    {
+        const int c = s.count[u];
+        s.count[u] = acc;
+        acc += c;
+    }
+    s.by_template.resize(n);
+    for (int j = 0; j < n; ++j)
+        s.by_template[s.count[s.local[s.t[j]]]++] = j;
+    for (size_t u = 0; u < s.used.size(); ++u)
+        s.local[s.used[u]] = -1;
+}
+
+// Round k of the breadth-first validation, template by template: chunk k of every pair in
+// `order` (whose template has more than k chunks).
+static void scoreChunks(const ValidationContext& ctx, int k, PairBlock& s)
+{
+    const uchar* P = &ctx.maps.data[0];
+    const size_t n = s.order.size();
+    for (size_t a = 0; a < n;)
+    {
+        const int t = s.t[s.order[a]];
+        const int* cb = &ctx.chunk_begin[ctx.chunks[t] + k];
+        const int* off = &ctx.offsets[cb[0]];
+        const int len = cb[1] - cb[0];
+        for (; a < n && s.t[s.order[a]] == t; ++a)
+        {
+            const int j = s.order[a];
+            s.raw[j] += sumAt(P + s.base[j], off, len);
+            s.scored[j] += len;
         }
     }
-    const std::vector<Candidate>& vc = s.vc;
-    std::sort(s.survivors.begin(), s.survivors.end(), [&](int a, int b) {
-        return vc[a].raw * (int64)vc[b].total > vc[b].raw * (int64)vc[a].total;
-    });
-    const int offset = T / 2 + (T % 2 - 1);
-    for (size_t k = 0; k < s.survivors.size() && (int)k < params.max_survivors; ++k)
+}
+
+// The element of rank n / 2 of the scores in [0, 1] (what std::nth_element puts there):
+// counted into 128 bins first, then selected among those of its bin only.
+static float medianOf(const std::vector<float>& scores, std::vector<float>& bin)
+{
+    const int B = 128;
+    int hist[B] = {0};
+    const int n = static_cast<int>(scores.size());
+    for (int a = 0; a < n; ++a)
+        ++hist[std::min(B - 1, static_cast<int>(scores[a] * B))];
+    int below = 0, b = 0;
+    while (below + hist[b] <= n / 2)
+        below += hist[b++];
+    bin.clear();
+    for (int a = 0; a < n; ++a)
+        if (std::min(B - 1, static_cast<int>(scores[a] * B)) == b)
+            bin.push_back(scores[a]);
+    std::nth_element(bin.begin(), bin.begin() + (n / 2 - below), bin.end());
+    return bin[n / 2 - below];
+}
+
+// After round k: every location still in the rounds keeps the alive pairs whose normalised
+// score raw / (4 scored) is >= the median of its alive pairs and > alpha (in their order); it
+// leaves the rounds with max_survivors or fewer, or when none of its pairs had a chunk k. Then
+// `order` keeps the pairs that go on to round k + 1.
+static void pruneRound(const ValidationContext& ctx, int k, float alpha, int max_survivors,
+                       PairBlock& s)
+{
+    const int L = static_cast<int>(s.alive_n.size());
+    for (int i = 0; i < L; ++i)
     {
-        const Candidate& v = vc[s.survivors[k]];
-        if (v.raw <= rawThreshold(threshold, v.total))
+        if (!s.active[i])
             continue;
-        const TemplateRef& ref = index.rows[ctx.rows[v.t]];
-        const Point tl = Point(loc.x * S, loc.y * S) - ctx.half[v.t];
-        out.push_back(cv::linemod::Match(tl.x + offset, tl.y + offset,
-                                         (v.raw * 100.f) / (4 * v.total) + 0.5f, ref.class_id,
-                                         ref.template_id));
+        int* al = &s.alive[s.begin[i]];
+        const int n = s.alive_n[i];
+        bool any = false;
+        s.scores.resize(n);
+        for (int a = 0; a < n; ++a)
+        {
+            const int j = al[a];
+            any = any || k < ctx.num_chunks[s.t[j]];
+            s.scores[a] = s.scored[j] ? s.raw[j] / (4.f * s.scored[j]) : 0.f;
+        }
+        if (!any)
+        {
+            s.active[i] = 0;
+            continue;
+        }
+        const float median = medianOf(s.scores, s.sorted);
+        int kept = 0;
+        for (int a = 0; a < n; ++a)  // without branches: half of them go either way
+        {
+            const int keep = (s.scores[a] >= median) & (s.scores[a] > alpha);
+            const int j = al[a];
+            al[kept] = j;
+            s.dead[j] = static_cast<uchar>(1 - keep);
+            kept += keep;
+        }
+        s.alive_n[i] = kept;
+        s.active[i] = kept > max_survivors;
     }
+    size_t kept = 0;
+    for (size_t a = 0; a < s.order.size(); ++a)
+    {
+        const int j = s.order[a];
+        s.order[kept] = j;
+        kept += (1 - s.dead[j]) & s.active[s.loc[j]] & (k + 1 < ctx.num_chunks[s.t[j]]);
+    }
+    s.order.resize(kept);
+}
+
+// Breadth-first preemptive validation (paper) of a block's pairs: features in chunks of
+// chunk_size; after each chunk every location keeps its candidates whose normalised score is
+// >= the median of its survivors and > alpha, until max_survivors (paper: 1) or fewer are left
+// (or features run out). Every chunk takes the same share of each modality's features. Each
+// round scores template by template (a template's offsets and the map rows it reads stay in
+// cache across the block's locations). The survivors are then scored on all their features;
+// without breadth_first every pair is.
+static void validatePairs(const ValidationContext& ctx, const DetectorParams& params,
+                          PairBlock& s)
+{
+    const int L = static_cast<int>(s.alive_n.size());
+    s.active.assign(L, 0);
+    if (params.breadth_first)
+    {
+        CV_Assert(params.max_survivors > 0);
+        for (int i = 0; i < L; ++i)
+            s.active[i] = s.alive_n[i] > params.max_survivors;
+        s.order.clear();
+        for (size_t a = 0; a < s.by_template.size(); ++a)
+            if (s.active[s.loc[s.by_template[a]]])
+                s.order.push_back(s.by_template[a]);
+        for (int k = 0; !s.order.empty(); ++k)
+        {
+            scoreChunks(ctx, k, s);
+            pruneRound(ctx, k, params.alpha, params.max_survivors, s);
+        }
+    }
+    // the survivors (every pair without breadth_first) on all their features
+    const uchar* P = &ctx.maps.data[0];
+    for (size_t a = 0; a < s.by_template.size(); ++a)
+    {
+        const int j = s.by_template[a];
+        const int t = s.t[j];
+        const int* cb = &ctx.chunk_begin[ctx.chunks[t]];
+        const int total = cb[ctx.num_chunks[t]] - cb[0];
+        if (s.dead[j] || s.scored[j] == total)
+            continue;
+        s.raw[j] = sumAt(P + s.base[j], &ctx.offsets[cb[0]], total);
+        s.scored[j] = total;
+    }
+}
+
+// Location i of the block: its best survivors over the threshold appended to `out`.
+static void emitLocation(const ValidationContext& ctx, const LocationCandidates& cands, int i0,
+                         int i, const SearchIndex& index, const DetectorParams& params,
+                         float threshold, int T, PairBlock& s,
+                         std::vector<cv::linemod::Match>& out)
+{
+    int* al = &s.alive[s.begin[i - i0]];
+    const int n = s.alive_n[i - i0];
+    const std::vector<int>& raw = s.raw;
+    const std::vector<int>& total = s.scored;  // all features scored by now
+    std::sort(al, al + n, [&](int a, int b) {
+        return raw[a] * (int64)total[b] > raw[b] * (int64)total[a];
+    });
+    const int S = cands.step;
+    const Point loc = cands.location[i];
+    const int offset = T / 2 + (T % 2 - 1);
+    for (int k = 0; k < n && k < params.max_survivors; ++k)
+    {
+        const int j = al[k];
+        if (raw[j] <= rawThreshold(threshold, total[j]))
+            continue;
+        const int t = s.t[j];
+        const TemplateRef& ref = index.rows[ctx.rows[t]];
+        const Point tl = Point(loc.x * S, loc.y * S) - ctx.half[t];
+        out.push_back(cv::linemod::Match(tl.x + offset, tl.y + offset,
+                                         (raw[j] * 100.f) / (4 * total[j]) + 0.5f,
+                                         ref.class_id, ref.template_id));
+    }
+}
+
+// A template's feature offsets (`offs`, modality m's at b[m] .. b[m + 1]) appended to the
+// context in chunk order: K = ceil(features / chunk_size) chunks, chunk k the fraction [k/K,
+// (k+1)/K) of every modality's features, so that every chunk samples all modalities and the
+// whole object (features are scattered).
+static void addChunks(const std::vector<int>& offs, const int* b, int M, int chunk_size,
+                      ValidationContext& ctx)
+{
+    const int total = b[M] - b[0];
+    const int K = std::max(1, (total + chunk_size - 1) / chunk_size);
+    ctx.chunks.push_back(static_cast<int>(ctx.chunk_begin.size()));
+    ctx.num_chunks.push_back(K);
+    for (int k = 0; k < K; ++k)
+    {
+        ctx.chunk_begin.push_back(static_cast<int>(ctx.offsets.size()));
+        for (int m = 0; m < M; ++m)
+        {
+            const int n = b[m + 1] - b[m];
+            const int s = static_cast<int>((int64)n * k / K);
+            const int e = static_cast<int>((int64)n * (k + 1) / K);
+            ctx.offsets.insert(ctx.offsets.end(), offs.begin() + b[m] + s,
+                               offs.begin() + b[m] + e);
+        }
+    }
+    ctx.chunk_begin.push_back(static_cast<int>(ctx.offsets.size()));
 }
 
 // The templates that are candidates somewhere (and not searched exhaustively): their offsets,
 // and the border that keeps every read of theirs inside the padded maps.
 static void prepareContext(const ScenePyramid& scene, const LocationCandidates& cands,
                            const SearchIndex& index, const ClassPyramids& pyramids,
-                           const std::vector<uchar>& skip_row, ValidationContext& ctx)
+                           const std::vector<uchar>& skip_row, int chunk_size,
+                           ValidationContext& ctx)
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
     const int M = top.modalities();
     const int S = cands.step;
-    ctx.M = M;
     ctx.first.assign(index.rows.size(), -1);
     std::vector<const TemplatePyramid*> tps;
     // the border: a location lies inside the level, a template's top-left `half` before it
@@ -590,17 +703,11 @@ static void prepareContext(const ScenePyramid& scene, const LocationCandidates& 
     if (ctx.rows.empty())
         return;
     ctx.maps.build(top, border + 1);
-    const int n = static_cast<int>(ctx.rows.size());
-    ctx.begin.resize((size_t)n * (M + 1));
-    std::vector<int> offs;
-    for (int t = 0; t < n; ++t)
+    std::vector<int> offs, b(M + 1);
+    for (size_t t = 0; t < tps.size(); ++t)
     {
-        int* b = &ctx.begin[(size_t)t * (M + 1)];
-        ctx.maps.featureOffsets(*tps[t], L, b, offs);
-        const int shift = static_cast<int>(ctx.offsets.size());
-        for (int m = 0; m <= M; ++m)
-            b[m] += shift;
-        ctx.offsets.insert(ctx.offsets.end(), offs.begin(), offs.end());
+        ctx.maps.featureOffsets(*tps[t], L, &b[0], offs);
+        addChunks(offs, &b[0], M, chunk_size, ctx);
     }
 }
 
@@ -632,20 +739,28 @@ void validateLocations(const ScenePyramid& scene, const LocationCandidates& cand
     if (exhaustive_groups)
         *exhaustive_groups = dense_groups;
 
+    CV_Assert(params.chunk_size > 0);
     ValidationContext ctx;
-    prepareContext(scene, cands, index, pyramids, skip_row, ctx);
+    prepareContext(scene, cands, index, pyramids, skip_row, params.chunk_size, ctx);
     const int n = cands.size();
     // locations in blocks, each block's matches in order: the result does not depend on threads
+    // (nor on the blocks: every location is validated on its own)
     const int block = 64;
     const int blocks = (n + block - 1) / block;
     std::vector<std::vector<cv::linemod::Match> > per_block(blocks);
     if (!ctx.rows.empty())
         parallel_for_(Range(0, blocks), [&](const Range& range) {
-            Scratch s;
+            PairBlock s;
+            s.local.assign(ctx.rows.size(), -1);
             for (int b = range.start; b < range.end; ++b)
-                for (int i = b * block; i < std::min(n, (b + 1) * block); ++i)
-                    validateLocation(ctx, cands, i, index, skip_row, params, threshold, top.T, s,
-                                     per_block[b]);
+            {
+                const int i0 = b * block, i1 = std::min(n, (b + 1) * block);
+                collectPairs(ctx, cands, i0, i1, skip_row, s);
+                validatePairs(ctx, params, s);
+                for (int i = i0; i < i1; ++i)
+                    emitLocation(ctx, cands, i0, i, index, params, threshold, top.T, s,
+                                 per_block[b]);
+            }
         });
     for (int b = 0; b < blocks; ++b)
         coarse.insert(coarse.end(), per_block[b].begin(), per_block[b].end());
