@@ -423,10 +423,14 @@ static void collectPairs(const ValidationContext& ctx, const LocationCandidates&
                          int i1, const std::vector<uchar>& skip_row, PairBlock& s)
 {
     const int S = cands.step;
-    s.t.clear(); s.base.clear(); s.loc.clear(); s.used.clear(); s.count.clear();
-    s.begin.assign(1, 0);
+    const size_t most = cands.begin[i1] - cands.begin[i0];
+    s.t.resize(most); s.base.resize(most); s.loc.resize(most);
+    s.used.clear(); s.count.clear();
+    s.begin.resize(i1 - i0 + 1);
+    int n = 0;
     for (int i = i0; i < i1; ++i)
     {
+        s.begin[i - i0] = n;
         const Point loc = cands.location[i];
         for (int k = cands.begin[i]; k < cands.begin[i + 1]; ++k)
         {
@@ -437,9 +441,10 @@ static void collectPairs(const ValidationContext& ctx, const LocationCandidates&
             // the true anchor lies within S/2 of the location; spread responses cover
             // [p, p + T): start S/2 before
             const Point tl = Point(loc.x * S, loc.y * S) - ctx.half[t];
-            s.t.push_back(t);
-            s.base.push_back(ctx.maps.at(tl.x, tl.y));
-            s.loc.push_back(i - i0);
+            s.t[n] = t;
+            s.base[n] = ctx.maps.at(tl.x, tl.y);
+            s.loc[n] = i - i0;
+            ++n;
             if (s.local[t] < 0)
             {
                 s.local[t] = static_cast<int>(s.used.size());
@@ -448,9 +453,8 @@ static void collectPairs(const ValidationContext& ctx, const LocationCandidates&
             }
             ++s.count[s.local[t]];
         }
-        s.begin.push_back(static_cast<int>(s.t.size()));
     }
-    const int n = static_cast<int>(s.t.size());
+    s.begin[i1 - i0] = n;
     s.raw.assign(n, 0);
     s.scored.assign(n, 0);
     s.dead.assign(n, 0);
