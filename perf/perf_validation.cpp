@@ -13,14 +13,18 @@
 //  - linemod: cv::linemod::Detector::match on the same templates (one pyramid level, T = 8, the
 //    same 320 x 240 gradient image; it also quantizes, spreads and linearizes the frame; skipped
 //    beyond 63 features, which its similarity asserts).
-// The scattered case scores one template at all locations in a row (template-major); the
-// detector's forest path scores location by location with breadth-first bookkeeping, which
-// costs more per triple (doc/detector.md, "Bounded worst case").
+// Forestmod_Validation.forest_path runs the detector's forest path itself (validateLocations:
+// the pairs of a block of locations scored template by template, breadth-first, the median rule
+// per location) with `c` random candidates of 256 templates at every location of the grid: the
+// cost per (location, candidate), and per (location, candidate, feature of the template) to
+// set beside the scoring-only cases.
 // The costs per triple are printed; compare them in one run (the machine may be shared).
 
 #include "perf_precomp.hpp"
 #include "../src/validator.hpp"
 #include "../src/quantize_fast.hpp"
+#include "../src/scene_pyramid.hpp"
+#include "../src/search_index.hpp"
 
 namespace opencv_test { namespace {
 
@@ -44,6 +48,20 @@ static Mat textured(RNG& rng)
         circle(img, Point(rng.uniform(0, 320), rng.uniform(0, 240)), rng.uniform(4, 30),
                Scalar(rng.uniform(0, 255), rng.uniform(0, 255), rng.uniform(0, 255)), 2);
     return img;
+}
+
+// The frame's coarsest level as the detector computes it (one modality).
+static LevelMaps coarseLevel(const Mat& img, const Ptr<linemod::Modality>& gradient)
+{
+    LevelMaps level;
+    level.T = kT;
+    level.pad = 0;
+    level.quantized.resize(1);
+    level.spread.resize(1);
+    gradient->process(img)->quantize(level.quantized[0]);
+    level.size = level.quantized[0].size();
+    spreadLabelsFast(level.quantized[0], level.spread[0], kT, 0);
+    return level;
 }
 
 // n single-modality, single-level templates of f features in a 48 x 48 box.
@@ -72,15 +90,7 @@ PERF_TEST_P(Forestmod_Validation, per_candidate,
     const std::vector<TemplatePyramid> tps = makeTemplates(n, f, rng);
     Ptr<linemod::Modality> gradient = linemod::Modality::create("ColorGradient");
 
-    // the frame's coarsest level as the detector computes it
-    LevelMaps level;
-    level.T = kT;
-    level.pad = 0;
-    level.quantized.resize(1);
-    level.spread.resize(1);
-    gradient->process(img)->quantize(level.quantized[0]);
-    level.size = level.quantized[0].size();
-    spreadLabelsFast(level.quantized[0], level.spread[0], kT, 0);
+    const LevelMaps level = coarseLevel(img, gradient);
 
     int64 triples = 0;
     if (path == PATH_SCATTERED)
@@ -145,6 +155,60 @@ PERF_TEST_P(Forestmod_Validation, per_candidate,
                                     ? "exhaustive" : "cv::linemod")
               << ": " << n << " templates x " << f << " features: "
               << ns / (double)triples << " ns per (location, candidate, feature)" << std::endl;
+    SANITY_CHECK_NOTHING();
+}
+
+typedef tuple<int, int> ForestPathParams;
+typedef TestBaseWithParam<ForestPathParams> Forestmod_ValidationForestPath;
+
+PERF_TEST_P(Forestmod_ValidationForestPath, per_pair,
+            Combine(Values(16, 64, 256), Values(32, 63, 126)))
+{
+    const int c = get<0>(GetParam()), f = get<1>(GetParam()), n = 256;
+    RNG rng(15);
+    const Mat img = textured(rng);
+    ClassPyramids pyramids;
+    pyramids["obj"] = makeTemplates(n, f, rng);
+    ScenePyramid scene;
+    scene.levels.push_back(coarseLevel(img, linemod::Modality::create("ColorGradient")));
+    SearchIndex index;
+    for (int i = 0; i < n; ++i)
+    {
+        TemplateRef ref;
+        ref.class_id = "obj";
+        ref.template_id = i;
+        index.rows.push_back(ref);
+    }
+    // every location of the grid (step T / 2) with c random candidates, ascending
+    LocationCandidates cands;
+    cands.step = kT / 2;
+    cands.begin.push_back(0);
+    std::vector<int> all(n);
+    for (int i = 0; i < n; ++i)
+        all[i] = i;
+    for (int r = 0; r < scene.coarsest().size.height / cands.step; ++r)
+        for (int x = 0; x < scene.coarsest().size.width / cands.step; ++x)
+        {
+            cands.location.push_back(Point(x, r));
+            for (int k = 0; k < c; ++k)  // a partial Fisher-Yates shuffle
+                std::swap(all[k], all[rng.uniform(k, n)]);
+            std::vector<int> pick(all.begin(), all.begin() + c);
+            std::sort(pick.begin(), pick.end());
+            cands.rows.insert(cands.rows.end(), pick.begin(), pick.end());
+            cands.begin.push_back(static_cast<int>(cands.rows.size()));
+        }
+    const forestmod::DetectorParams params;
+    const std::vector<uchar> row_allowed(n, 1);
+    std::vector<linemod::Match> coarse;
+    TEST_CYCLE() validateLocations(scene, cands, index, pyramids, params, 10.f, row_allowed,
+                                   coarse);
+    ASSERT_FALSE(coarse.empty());
+    ASSERT_LE(coarse.size(), cands.location.size());  // max_survivors 1 per location
+    const double ns = calcMetrics().median * 1e9 / cv::getTickFrequency();
+    const double pairs = static_cast<double>(cands.rows.size());
+    std::cout << "[ INFO    ] forest path: " << c << " candidates x " << f << " features: "
+              << ns / pairs << " ns per (location, candidate), " << ns / (pairs * f)
+              << " ns per (location, candidate, feature)" << std::endl;
     SANITY_CHECK_NOTHING();
 }
 

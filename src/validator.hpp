@@ -104,11 +104,12 @@ cv::linemod reports them), in location order; then the coarse matches of the sea
 searched exhaustively in this frame (DetectorParams::exhaustive_ratio), group by group, template
 by template, in LINEMOD's order. row_allowed: per index row, whether its class was asked for.
 `exhaustive_groups`, when given, receives the number of groups searched exhaustively. */
-void validateLocations(const ScenePyramid& scene, const LocationCandidates& cands,
-                       const SearchIndex& index, const ClassPyramids& pyramids,
-                       const DetectorParams& params, float threshold,
-                       const std::vector<uchar>& row_allowed,
-                       std::vector<cv::linemod::Match>& coarse, int* exhaustive_groups = 0);
+CV_EXPORTS void validateLocations(const ScenePyramid& scene, const LocationCandidates& cands,
+                                  const SearchIndex& index, const ClassPyramids& pyramids,
+                                  const DetectorParams& params, float threshold,
+                                  const std::vector<uchar>& row_allowed,
+                                  std::vector<cv::linemod::Match>& coarse,
+                                  int* exhaustive_groups = 0);
 
 } // namespace detail
 } // namespace forestmod
