@@ -505,6 +505,57 @@ static void finishSampleRows(const ScanContext& ctx, const std::vector<int>& sam
     }
 }
 
+// The sample rows through the active groups, as many rows at a time as there are threads: a
+// group that passes its limit on the rows scanned so far leaves the following ones (and the rest
+// of a row as soon as that row alone passes it: its count only grows) and ctx.active. The
+// decisions are those of the whole sample, whatever the threads.
+static void sampleGroups(ScanContext& ctx, const std::vector<int>& sample, int W, Mat* map,
+                         std::vector<RowOutput>& rows, SampleLimits limits)
+{
+    const int NG = (int)ctx.groups.size();
+    const size_t batch = (size_t)std::max(1, getNumThreads());
+    for (size_t b = 0; b < sample.size(); b += batch)
+    {
+        const std::vector<int> part(sample.begin() + b,
+                                    sample.begin() + std::min(sample.size(), b + batch));
+        scanRows(ctx, part, W, map, rows, &limits);
+        for (int g = 0; g < NG; ++g)
+        {
+            for (size_t i = 0; i < part.size(); ++i)
+                limits.pairs[g] += rows[part[i]].pairs[g];
+            if (ctx.active[g] && limits.passed(g, 0))
+                ctx.active[g] = 0;
+        }
+    }
+}
+
+// Groups of several trees (a location stays while one tree accepts it) first go through the
+// sample with their first tree only: the union of the trees' leaves holds the first tree's, so
+// a group whose first tree alone passes its limit passes it with every tree, and leaves the scan
+// without its other trees' root tests and descents (same decisions). With reject_any_tree one
+// rejecting tree rejects, and the union may hold fewer: those groups are not tried.
+static void sampleFirstTrees(ScanContext& ctx, const std::vector<int>& sample, int W,
+                             const SampleLimits& limits)
+{
+    const int NG = (int)ctx.groups.size();
+    ScanContext first = ctx;
+    bool any = false;
+    for (int g = 0; g < NG; ++g)
+    {
+        const bool tried = ctx.active[g] && ctx.trees[g] > 1 && !ctx.any_tree[g];
+        first.active[g] = tried ? 1 : 0;
+        first.trees[g] = 1;
+        any = any || tried;
+    }
+    if (!any)
+        return;
+    std::vector<RowOutput> rows(*std::max_element(sample.begin(), sample.end()) + 1);
+    sampleGroups(first, sample, W, 0, rows, limits);
+    for (int g = 0; g < NG; ++g)
+        if (ctx.active[g] && ctx.trees[g] > 1 && !ctx.any_tree[g] && !first.active[g])
+            ctx.active[g] = 0;
+}
+
 void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
                    const DetectorParams& params, const std::vector<uchar>& row_allowed,
                    bool rejection_map, LocationCandidates& out)
@@ -543,30 +594,14 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
     }
     else if (!sample.empty())
     {
-        // as many rows at a time as there are threads: a group that passes the limit on the rows
-        // scanned so far leaves the following ones (and the rest of a row as soon as that row
-        // alone passes it: its count only grows). The decisions are those of the whole sample,
-        // whatever the threads.
         SampleLimits limits;
         limits.scale = (double)H / sample.size();
         limits.pairs.assign(NG, 0);
         limits.limit.resize(NG);
         for (int g = 0; g < NG; ++g)
             limits.limit[g] = ratio * (double)templates[g] * positions;
-        const size_t batch = (size_t)std::max(1, getNumThreads());
-        for (size_t b = 0; b < sample.size(); b += batch)
-        {
-            const std::vector<int> part(sample.begin() + b,
-                                        sample.begin() + std::min(sample.size(), b + batch));
-            scanRows(ctx, part, W, map, rows, &limits);
-            for (int g = 0; g < NG; ++g)
-            {
-                for (size_t i = 0; i < part.size(); ++i)
-                    limits.pairs[g] += rows[part[i]].pairs[g];
-                if (ctx.active[g] && limits.passed(g, 0))
-                    ctx.active[g] = 0;
-            }
-        }
+        sampleFirstTrees(ctx, sample, W, limits);
+        sampleGroups(ctx, sample, W, map, rows, limits);
     }
     if (ratio >= 0.f)
         for (int g = 0; g < NG; ++g)
