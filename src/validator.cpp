@@ -363,7 +363,7 @@ namespace {
 struct ValidationContext
 {
     PaddedResponses maps;
-    std::vector<int> first;       //!< [row]: index in `templ` or -1
+    std::vector<int> first;       //!< [index row]: its template t, or -1
     std::vector<int> chunks;      //!< [t]: into chunk_begin
     std::vector<int> num_chunks;  //!< [t]
     std::vector<int> chunk_begin; //!< into offsets
@@ -382,8 +382,9 @@ struct PairBlock
     std::vector<int> begin, alive_n;             //!< per location of the block
     std::vector<uchar> active;                   //!< per location: still in the rounds
     std::vector<int> alive;      //!< [begin[i] .. begin[i] + alive_n[i]): location i's alive pairs
-    std::vector<int> by_template, order;         //!< pairs sorted by template, then location
-    std::vector<int> local, used, count;         //!< counting sort: [t] -> local id, ...
+    std::vector<int> by_template;  //!< every pair, sorted by template, then location
+    std::vector<int> order;        //!< those still in the breadth-first rounds, in that order
+    std::vector<int> local, used, count; //!< counting sort: [t] -> block id (-1), ids' t, counts
     std::vector<float> scores, sorted;
 };
 
