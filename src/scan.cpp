@@ -542,17 +542,17 @@ static void sampleFirstTrees(ScanContext& ctx, const std::vector<int>& sample, i
     bool any = false;
     for (int g = 0; g < NG; ++g)
     {
-        const bool tried = ctx.active[g] && ctx.trees[g] > 1 && !ctx.any_tree[g];
-        first.active[g] = tried ? 1 : 0;
+        first.active[g] = ctx.active[g] && ctx.trees[g] > 1 && !ctx.any_tree[g];
         first.trees[g] = 1;
-        any = any || tried;
+        any = any || first.active[g];
     }
     if (!any)
         return;
+    const std::vector<uchar> tried = first.active;
     std::vector<RowOutput> rows(*std::max_element(sample.begin(), sample.end()) + 1);
     sampleGroups(first, sample, W, 0, rows, limits);
     for (int g = 0; g < NG; ++g)
-        if (ctx.active[g] && ctx.trees[g] > 1 && !ctx.any_tree[g] && !first.active[g])
+        if (tried[g] && !first.active[g])
             ctx.active[g] = 0;
 }
 
