@@ -4,9 +4,10 @@
 
 // Validation alone, on the coarsest level of a VGA frame (320 x 240, T = 8, one modality), with
 // the number of candidate templates and their features as parameters:
-//  - scattered: the forest path's scoring (src/validator.cpp: zero-bordered response maps, one
-//    read per feature) of every template at every location of the location grid (step T / 2 =
-//    4: 80 x 60 locations), i.e. the cost per (location, candidate, feature);
+//  - scattered: the forest path's scoring of one pair at a time (src/validator.cpp: linearized
+//    memories on the location grid, one read per feature) of every template at every location
+//    of the location grid (step T / 2 = 4: 80 x 60 locations), the cost per (location,
+//    candidate, feature);
 //  - exhaustive: the bounded worst case's scoring (LINEMOD's linearized memories, SIMD) of every
 //    template at every position of the T grid (40 x 30), the cost per (position, template,
 //    feature);
@@ -14,8 +15,9 @@
 //    same 320 x 240 gradient image; it also quantizes, spreads and linearizes the frame; skipped
 //    beyond 63 features, which its similarity asserts).
 // Forestmod_Validation.forest_path runs the detector's forest path itself (validateLocations:
-// the pairs of a block of locations scored template by template, breadth-first, the median rule
-// per location) with `c` random candidates of 256 templates at every location of the grid: the
+// the pairs of a block of locations scored template by template, a template's pairs at
+// neighbouring locations in one vector addition per feature, breadth-first, the median rule per
+// location) with `c` random candidates of 256 templates at every location of the grid: the
 // cost per (location, candidate), and per (location, candidate, feature of the template) to
 // set beside the scoring-only cases.
 // The costs per triple are printed; compare them in one run (the machine may be shared).
@@ -100,15 +102,15 @@ PERF_TEST_P(Forestmod_Validation, per_candidate,
         for (int r = 0; r < level.size.height / S; ++r)
             for (int c = 0; c < level.size.width / S; ++c)
                 tls.push_back(Point(c * S - 24 - S / 2, r * S - 24 - S / 2));
-        PaddedResponses maps;
-        maps.build(level, 48 + kT);
+        LinearMemories grid;
+        grid.buildGrid(level, S, (48 + kT) / S);
         std::vector<int> raw;
         int64 sum = 0;
         TEST_CYCLE()
         {
             for (int i = 0; i < n; ++i)
             {
-                scoreAt(maps, tps[i], 0, tls, raw);
+                scoreAt(grid, tps[i], 0, 1, tls, raw);
                 sum += raw[raw.size() / 2];
             }
         }

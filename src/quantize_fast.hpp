@@ -112,7 +112,7 @@ CV_EXPORTS void spreadTile(const Mat& src, int T, Rect tile, Mat& spread);
 distance from o to the nearest label set in it, 0 beyond 3 (detail::computeResponseMaps). */
 CV_EXPORTS uchar responseOf(int o, uchar spread);
 /** The 8 responses of n spread bytes, vectorised: dst[o][i] = responseOf(o, spread[i]). The
-response maps are never kept whole: each reader (PaddedResponses, LinearMemories) computes them
+response maps are never kept whole: each reader (LinearMemories, on the T grid or the location grid) computes them
 in its own layout from the spread images. */
 CV_EXPORTS void spreadResponses(const uchar* spread, int n, uchar* const* dst);
 

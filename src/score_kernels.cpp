@@ -56,6 +56,12 @@ void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride)
     FORESTMOD_DISPATCH(addBlocks16(acc, src, n, stride));
 }
 
+void scoreRun16(ushort* out, const uchar* base, const int* off, int n, int len)
+{
+    CV_DbgAssert(len >= 0 && len <= 64);
+    FORESTMOD_DISPATCH(scoreRun16(out, base, off, n, len));
+}
+
 void countLabels8(uchar* dst, const uchar* src, int n)
 {
     FORESTMOD_DISPATCH(countLabels8(dst, src, n));

@@ -3,8 +3,9 @@
 // of this distribution and at http://opencv.org/license.html
 
 // Validation stage (paper: "Fast Breadth-first Leaf Validation"): LINEMOD's similarity read from
-// zero-bordered response maps of the frame's coarsest level (one read per feature, offsets
-// computed once per template and frame), the breadth-first preemptive scheme; and the exhaustive
+// linearized memories of the frame's coarsest level on the location grid (offsets computed once
+// per template and frame; a template's candidates at neighbouring locations scored together, one
+// vector addition per feature), the breadth-first preemptive scheme; and the exhaustive
 // vectorised search of the groups whose forest rejected too little in this frame.
 
 #include "precomp.hpp"
@@ -19,46 +20,6 @@ namespace detail {
 
 // ------------------------------------------------------------------------------------------------
 // Layouts
-
-void PaddedResponses::build(const LevelMaps& level, int b)
-{
-    modalities = level.modalities();
-    border = b;
-    width = level.size.width + level.pad + 2 * b;
-    height = level.size.height + level.pad + 2 * b;
-    plane = width * height;
-    data.assign((size_t)plane * 8 * modalities, 0);
-    for (int m = 0; m < modalities; ++m)
-    {
-        const Mat& s = level.spread[m];
-        parallel_for_(Range(0, s.rows), [&](const Range& range) {
-            uchar* d[8];
-            for (int y = range.start; y < range.end; ++y)
-            {
-                for (int o = 0; o < 8; ++o)
-                    d[o] = &data[(size_t)(m * 8 + o) * plane + at(0, y)];
-                spreadResponses(s.ptr<uchar>(y), s.cols, d);
-            }
-        });
-    }
-}
-
-void PaddedResponses::featureOffsets(const TemplatePyramid& tp, int level_index, int* begin,
-                                     std::vector<int>& offsets) const
-{
-    offsets.clear();
-    for (int m = 0; m < modalities; ++m)
-    {
-        begin[m] = static_cast<int>(offsets.size());
-        const cv::linemod::Template& t = tp[level_index * modalities + m];
-        for (size_t i = 0; i < t.features.size(); ++i)
-        {
-            const cv::linemod::Feature& f = t.features[i];
-            offsets.push_back((m * 8 + f.label) * plane + f.y * width + f.x);
-        }
-    }
-    begin[modalities] = static_cast<int>(offsets.size());
-}
 
 // Cell columns [c0, c1] of cell row `cy` of one modality's memories (`row`: label 0, offset
 // (0, 0), that cell row; `plane` between consecutive offsets): the responses of the spread
@@ -85,9 +46,27 @@ static void linearizeCells(const Mat& spread, int T, int cy, int c0, int c1, uch
     }
 }
 
+// The image's cell rows of every modality's memories: cell row cy (0 = the image's first) from
+// runs[run_begin[cy]] .. runs[run_begin[cy + 1]) (cell columns, inclusive), in parallel.
+static void fillCells(const LevelMaps& level, const std::vector<Vec2i>& runs,
+                      const std::vector<int>& run_begin, LinearMemories& lm)
+{
+    const size_t n = (size_t)lm.stride * lm.rows;
+    for (int m = 0; m < level.modalities(); ++m)
+        parallel_for_(Range(0, static_cast<int>(run_begin.size()) - 1), [&](const Range& range) {
+            std::vector<uchar> gathered(lm.stride);
+            for (int cy = range.start; cy < range.end; ++cy)
+                for (int k = run_begin[cy]; k < run_begin[cy + 1]; ++k)
+                    linearizeCells(level.spread[m], lm.T, cy, runs[k][0], runs[k][1],
+                                   &lm.data[lm.index(m, 0, 0, 0)] + lm.cell(0, cy), n,
+                                   &gathered[0]);
+        });
+}
+
 void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
 {
     T = level.T;
+    border = 0;
     cells_x = level.size.width / T;
     cells_y = level.size.height / T;
     stride = cells_x + 1;
@@ -97,7 +76,7 @@ void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
     div_T.resize((size_t)std::max(stride, rows) * T);
     for (size_t x = 0; x < div_T.size(); ++x)
         div_T[x] = static_cast<ushort>(x / T);
-    data.assign(n * T * T * 8 * M, 0);
+    data.assign(n * T * T * 8 * M + kSlack, 0);
     // the runs of cells to fill, per cell row: every cell, or those touching a marked tile
     std::vector<Vec2i> runs;
     std::vector<int> run_begin(rows + 1, 0);
@@ -136,15 +115,46 @@ void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
         }
     }
     run_begin[rows] = static_cast<int>(runs.size());
+    fillCells(level, runs, run_begin, *this);
+}
+
+void LinearMemories::buildGrid(const LevelMaps& level, int step, int border_cells)
+{
+    CV_Assert(step > 0 && border_cells >= 0);
+    T = step;
+    border = border_cells;
+    const Size spread = level.spread.empty() ? level.size : level.spread[0].size();
+    cells_x = (spread.width + T - 1) / T;
+    cells_y = (spread.height + T - 1) / T;
+    stride = cells_x + 2 * border;
+    rows = cells_y + 2 * border;
+    div_T.clear();
+    data.assign((size_t)stride * rows * T * T * 8 * level.modalities() + kSlack, 0);
+    std::vector<Vec2i> runs(cells_y, Vec2i(0, cells_x - 1));
+    std::vector<int> run_begin(cells_y + 1);
+    for (int cy = 0; cy <= cells_y; ++cy)
+        run_begin[cy] = cy;
+    fillCells(level, runs, run_begin, *this);
+}
+
+void LinearMemories::featureOffsets(const TemplatePyramid& tp, int level_index, int M, Point tl,
+                                    int* begin, std::vector<int>& offsets) const
+{
+    offsets.clear();
     for (int m = 0; m < M; ++m)
-        parallel_for_(Range(0, rows), [&](const Range& range) {
-            std::vector<uchar> gathered(stride);
-            for (int cy = range.start; cy < range.end; ++cy)
-                for (int k = run_begin[cy]; k < run_begin[cy + 1]; ++k)
-                    linearizeCells(level.spread[m], T, cy, runs[k][0], runs[k][1],
-                                   &data[index(m, 0, 0, 0)] + (size_t)cy * stride, n,
-                                   &gathered[0]);
-        });
+    {
+        begin[m] = static_cast<int>(offsets.size());
+        const cv::linemod::Template& t = tp[level_index * M + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const cv::linemod::Feature& f = t.features[i];
+            const int x = tl.x + f.x, y = tl.y + f.y;
+            const int qx = cvFloor((double)x / T), qy = cvFloor((double)y / T);
+            offsets.push_back(static_cast<int>(index(m, f.label, x - qx * T, y - qy * T))
+                              + qy * stride + qx);
+        }
+    }
+    begin[M] = static_cast<int>(offsets.size());
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -356,13 +366,13 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
 
 namespace {
 
-// What validation reads, prepared once per frame: the padded maps and, per candidate template,
-// its feature offsets in chunk order (chunk k of template t: offsets[chunk_begin[chunks[t] + k]
-// .. chunk_begin[chunks[t] + k + 1]), every chunk the same share of each modality's features)
-// and its anchor shift.
+// What validation reads, prepared once per frame: the linearized memories on the location grid
+// and, per candidate template, its feature offsets from a location's cell in chunk order (chunk
+// k of template t: offsets[chunk_begin[chunks[t] + k] .. chunk_begin[chunks[t] + k + 1]),
+// every chunk the same share of each modality's features) and its anchor shift.
 struct ValidationContext
 {
-    PaddedResponses maps;
+    LinearMemories mem;
     std::vector<int> first;       //!< [index row]: its template t, or -1
     std::vector<int> chunks;      //!< [t]: into chunk_begin
     std::vector<int> num_chunks;  //!< [t]
@@ -377,7 +387,8 @@ struct ValidationContext
 // per block range, never per location.
 struct PairBlock
 {
-    std::vector<int> t, base, raw, scored, loc;  //!< per pair
+    std::vector<int> t, raw, scored, loc;  //!< per pair
+    std::vector<int> base;  //!< per pair: its location's cell in the memories
     std::vector<uchar> dead;                     //!< per pair
     std::vector<int> begin, alive_n;             //!< per location of the block
     std::vector<uchar> active;                   //!< per location: still in the rounds
@@ -403,17 +414,24 @@ static inline int sumAt(const uchar* p, const int* off, int n)
     return s0 + s1;
 }
 
-void scoreAt(const PaddedResponses& maps, const TemplatePyramid& templ, int level_index,
-             const std::vector<Point>& tls, std::vector<int>& raw)
+void scoreAt(const LinearMemories& lm, const TemplatePyramid& templ, int level_index,
+             int num_modalities, const std::vector<Point>& tls, std::vector<int>& raw)
 {
-    std::vector<int> begin(maps.modalities + 1), offsets;
-    maps.featureOffsets(templ, level_index, &begin[0], offsets);
+    // the offsets of each phase of the top-left in a cell, computed when first needed
+    const int T = lm.T;
+    std::vector<std::vector<int> > offsets(T * T);
+    std::vector<int> begin(num_modalities + 1);
     raw.resize(tls.size());
-    const int n = static_cast<int>(offsets.size());
     for (size_t i = 0; i < tls.size(); ++i)
     {
-        CV_DbgAssert(tls[i].x >= -maps.border && tls[i].y >= -maps.border);
-        raw[i] = n ? sumAt(&maps.data[0] + maps.at(tls[i].x, tls[i].y), &offsets[0], n) : 0;
+        const int qx = cvFloor((double)tls[i].x / T), qy = cvFloor((double)tls[i].y / T);
+        const Point phase(tls[i].x - qx * T, tls[i].y - qy * T);
+        std::vector<int>& off = offsets[phase.y * T + phase.x];
+        if (off.empty())
+            lm.featureOffsets(templ, level_index, num_modalities, phase, &begin[0], off);
+        const int n = static_cast<int>(off.size());
+        CV_DbgAssert(qx >= -lm.border && qy >= -lm.border);
+        raw[i] = n ? sumAt(&lm.data[0] + lm.cell(qx, qy), &off[0], n) : 0;
     }
 }
 
@@ -423,7 +441,6 @@ void scoreAt(const PaddedResponses& maps, const TemplatePyramid& templ, int leve
 static void collectPairs(const ValidationContext& ctx, const LocationCandidates& cands, int i0,
                          int i1, const std::vector<uchar>& skip_row, PairBlock& s)
 {
-    const int S = cands.step;
     const size_t most = cands.begin[i1] - cands.begin[i0];
     s.t.resize(most); s.base.resize(most); s.loc.resize(most);
     s.used.clear(); s.count.clear();
@@ -432,18 +449,15 @@ static void collectPairs(const ValidationContext& ctx, const LocationCandidates&
     for (int i = i0; i < i1; ++i)
     {
         s.begin[i - i0] = n;
-        const Point loc = cands.location[i];
+        const int cell = ctx.mem.cell(cands.location[i].x, cands.location[i].y);
         for (int k = cands.begin[i]; k < cands.begin[i + 1]; ++k)
         {
             const int row = cands.rows[k];
             if (skip_row[row])
                 continue;
             const int t = ctx.first[row];
-            // the true anchor lies within S/2 of the location; spread responses cover
-            // [p, p + T): start S/2 before
-            const Point tl = Point(loc.x * S, loc.y * S) - ctx.half[t];
             s.t[n] = t;
-            s.base[n] = ctx.maps.at(tl.x, tl.y);
+            s.base[n] = cell;
             s.loc[n] = i - i0;
             ++n;
             if (s.local[t] < 0)
@@ -479,23 +493,51 @@ static void collectPairs(const ValidationContext& ctx, const LocationCandidates&
         s.local[s.used[u]] = -1;
 }
 
+// Pairs of one template whose cells lie within this many cells of the first are scored
+// together, as one run of the memories (score_kernels.hpp's scoreRun16: at most 64).
+static const int kRunCells = 64;
+
 // Round k of the breadth-first validation, template by template: chunk k of every pair in
-// `order` (whose template has more than k chunks).
+// `order` (whose template has more than k chunks). A template's pairs in one run of kRunCells
+// cells (in location order: ascending cells) are scored as LINEMOD scores: one vector addition
+// per feature over the whole run, when they fill enough of it (one pair per 16 cells); the
+// others feature by feature, one read each.
 static void scoreChunks(const ValidationContext& ctx, int k, PairBlock& s)
 {
-    const uchar* P = &ctx.maps.data[0];
+    const uchar* P = &ctx.mem.data[0];
+    const int* order = s.order.empty() ? 0 : &s.order[0];
     const size_t n = s.order.size();
+    ushort run[kRunCells];
     for (size_t a = 0; a < n;)
     {
-        const int t = s.t[s.order[a]];
+        const int t = s.t[order[a]];
         const int* cb = &ctx.chunk_begin[ctx.chunks[t] + k];
         const int* off = &ctx.offsets[cb[0]];
         const int len = cb[1] - cb[0];
-        for (; a < n && s.t[s.order[a]] == t; ++a)
+        while (a < n && s.t[order[a]] == t)
         {
-            const int j = s.order[a];
-            s.raw[j] += sumAt(P + s.base[j], off, len);
-            s.scored[j] += len;
+            const int first = s.base[order[a]];
+            size_t e = a + 1;
+            while (e < n && s.t[order[e]] == t && s.base[order[e]] - first < kRunCells)
+                ++e;
+            const int width = s.base[order[e - 1]] - first + 1;
+            if ((int)(e - a) * 16 > width && e - a > 1)
+            {
+                scoreRun16(run, P + first, off, len, width);
+                for (; a < e; ++a)
+                {
+                    const int j = order[a];
+                    s.raw[j] += run[s.base[j] - first];
+                    s.scored[j] += len;
+                }
+            }
+            else
+                for (; a < e; ++a)
+                {
+                    const int j = order[a];
+                    s.raw[j] += sumAt(P + s.base[j], off, len);
+                    s.scored[j] += len;
+                }
         }
     }
 }
@@ -598,7 +640,7 @@ static void validatePairs(const ValidationContext& ctx, const DetectorParams& pa
         }
     }
     // the survivors (every pair without breadth_first) on all their features
-    const uchar* P = &ctx.maps.data[0];
+    const uchar* P = &ctx.mem.data[0];
     for (size_t a = 0; a < s.by_template.size(); ++a)
     {
         const int j = s.by_template[a];
@@ -669,7 +711,7 @@ static void addChunks(const std::vector<int>& offs, const int* b, int M, int chu
 }
 
 // The templates that are candidates somewhere (and not searched exhaustively): their offsets,
-// and the border that keeps every read of theirs inside the padded maps.
+// and the border that keeps every read of theirs inside the memories.
 static void prepareContext(const ScenePyramid& scene, const LocationCandidates& cands,
                            const SearchIndex& index, const ClassPyramids& pyramids,
                            const std::vector<uchar>& skip_row, int chunk_size,
@@ -696,7 +738,6 @@ static void prepareContext(const ScenePyramid& scene, const LocationCandidates& 
         const cv::linemod::Template& t = tp[L * M];
         const Point half(t.width / 2 + S / 2, t.height / 2 + S / 2);
         ctx.half.push_back(half);
-        border = std::max(border, std::max(half.x, half.y)); // the top-left is in the buffer
         for (int m = 0; m < M; ++m)
         {
             const std::vector<cv::linemod::Feature>& fs = tp[L * M + m].features;
@@ -707,11 +748,12 @@ static void prepareContext(const ScenePyramid& scene, const LocationCandidates& 
     }
     if (ctx.rows.empty())
         return;
-    ctx.maps.build(top, border + 1);
+    // a feature lies at most `border` pixels from its location's pixel (the cell's corner)
+    ctx.mem.buildGrid(top, S, border / S + 2);
     std::vector<int> offs, b(M + 1);
     for (size_t t = 0; t < tps.size(); ++t)
     {
-        ctx.maps.featureOffsets(*tps[t], L, &b[0], offs);
+        ctx.mem.featureOffsets(*tps[t], L, M, -ctx.half[t], &b[0], offs);
         addChunks(offs, &b[0], M, chunk_size, ctx);
     }
 }

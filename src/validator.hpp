@@ -23,49 +23,34 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-/** The coarsest level's response maps of every modality and label (computed from its spread
-images, spreadResponses()) in one buffer with a zero
-border, so that a feature is one read without bounds checks: the response of label o of
-modality m at (x, y) is data[(m * 8 + o) * plane + (y + border) * width + x + border]. A read
-in the border gives 0, as LINEMOD's skipping of features outside the image. */
-struct CV_EXPORTS PaddedResponses
-{
-    std::vector<uchar> data;
-    int border;
-    int width, height;  //!< padded size
-    int plane;          //!< width * height
-    int modalities;
-
-    PaddedResponses() : border(0), width(0), height(0), plane(0), modalities(0) {}
-    /** The level's response maps with a border of `border` pixels. */
-    void build(const LevelMaps& level, int border);
-    /** Offset of (x, y) of the unpadded level in a plane. */
-    int at(int x, int y) const { return (y + border) * width + x + border; }
-    /** Offsets of a template's features (modality by modality, in the template's order) from
-    its top-left corner; `begin[m]` .. `begin[m + 1]` are modality m's. */
-    void featureOffsets(const TemplatePyramid& tp, int level_index, int* begin,
-                        std::vector<int>& offsets) const;
-};
-
-/** LINEMOD's linearized memories of the coarsest level (Hinterstoisser et al., PAMI 2012,
-section 2.5): for every modality, label and offset (dx, dy) in the T x T cell, the responses of
-the cells' pixels (cx T + dx, cy T + dy) in one row-major array of `stride` x `rows` cells (one
-cell more than the level's cells_x x cells_y each way, for features on a template's far edge;
-pixels outside the image read 0). A feature then adds one contiguous run to the scores of all
-positions (c T, r T) of a template at once. */
+/** LINEMOD's linearized memories of a level (Hinterstoisser et al., PAMI 2012, section 2.5): for
+every modality, label and offset (dx, dy) in the T x T cell, the responses of the cells' pixels
+(cx T + dx, cy T + dy) in one row-major array of `stride` x `rows` cells; pixels outside the
+image read 0. A feature then adds one contiguous run to the scores of all positions (c T, r T)
+of a template at once. The exhaustive path and the refinement build them on the level's T grid
+(one cell more each way than the level's whole cells, for features on a template's far edge);
+the forest path on its location grid (T = location step) with `border` cells of zeros on every
+side, so that any feature of a candidate at any location is one read without bounds checks. */
 struct CV_EXPORTS LinearMemories
 {
-    std::vector<uchar> data;
+    std::vector<uchar> data;   //!< the memories, then kSlack zero bytes (whole-vector reads)
     int T;
     int cells_x, cells_y;   //!< whole cells of the level: the positions
+    int border;             //!< cells of zeros before cell (0, 0), each way
     int stride, rows;       //!< cells of a memory
     std::vector<ushort> div_T; //!< x / T for x < max(stride, rows) T (no division per feature)
 
-    LinearMemories() : T(1), cells_x(0), cells_y(0), stride(0), rows(0) {}
-    /** From the level's spread images (spreadResponses()); with `tiles` (a grid of `tile`-sized pixel tiles, nonzero
-    where the maps are valid, ScenePyramid::tiles) only the cells touching a marked tile, the
-    others 0. */
+    /** Zero bytes after the memories: a run of up to kSlack cells can be read from any cell. */
+    static const int kSlack = 64;
+
+    LinearMemories() : T(1), cells_x(0), cells_y(0), border(0), stride(0), rows(0) {}
+    /** On the level's T grid from its spread images (spreadResponses()); with `tiles` (a grid
+    of `tile`-sized pixel tiles, nonzero where the maps are valid, ScenePyramid::tiles) only the
+    cells touching a marked tile, the others 0. */
     void build(const LevelMaps& level, const Mat& tiles = Mat(), Size tile = Size());
+    /** On a grid of `step` pixels (every cell touching the level's padded spread images) with
+    `border` cells of zeros each way. */
+    void buildGrid(const LevelMaps& level, int step, int border);
     size_t index(int modality, int label, int dx, int dy) const
     {
         return ((size_t)(modality * 8 + label) * T * T + dy * T + dx) * (size_t)(stride * rows);
@@ -74,6 +59,13 @@ struct CV_EXPORTS LinearMemories
     {
         return &data[index(modality, label, dx, dy)];
     }
+    /** Offset of cell (cx, cy) (border cells: negative) in every memory. */
+    int cell(int cx, int cy) const { return (cy + border) * stride + cx + border; }
+    /** Offsets from cell(0, 0) of the features of a template whose top-left is `tl` pixels from
+    the cell's corner (modality by modality, in the template's order): the response of feature
+    i at cell c is data[cell(c) + offsets[i]]; `begin[m]` .. `begin[m + 1]` are modality m's. */
+    void featureOffsets(const TemplatePyramid& tp, int level_index, int num_modalities,
+                        Point tl, int* begin, std::vector<int>& offsets) const;
 };
 
 /** Raw scores of a template at every position (c T, r T) of the coarsest level where it fits
@@ -93,10 +85,11 @@ CV_EXPORTS bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, 
                            int num_modalities, int ox, int oy, int* scores);
 
 /** The forest path's scoring without its bookkeeping (tests, perf tests): raw[i] = the raw score
-of all features of `templ` with its top-left at tls[i], read from `maps` (every tl within
-maps.border of the level). */
-CV_EXPORTS void scoreAt(const PaddedResponses& maps, const TemplatePyramid& templ,
-                        int level_index, const std::vector<Point>& tls, std::vector<int>& raw);
+of all features of `templ` with its top-left at tls[i] (any pixel whose features stay within
+the memories' border), read from memories built with buildGrid. */
+CV_EXPORTS void scoreAt(const LinearMemories& lm, const TemplatePyramid& templ, int level_index,
+                        int num_modalities, const std::vector<Point>& tls,
+                        std::vector<int>& raw);
 
 /** The validation stage: every location's candidates validated (breadth_first or all), the best
 max_survivors of each over the threshold as coarse matches (positions of the coarsest level as

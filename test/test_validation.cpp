@@ -3,7 +3,8 @@
 // of this distribution and at http://opencv.org/license.html
 
 // The validator's fast paths against LINEMOD's similarity read in place (detail::similarityAll):
-// the forest path's zero-bordered maps (scoreAt) at any top-left, in or partly out of the image,
+// the forest path's memories on its location grid (scoreAt) at any top-left, in or partly out of
+// the image, and a template's run of neighbouring cells scored at once (scoreRun16),
 // the exhaustive path's linearized memories (scoreEverywhere) at every position of the T grid and
 // the refinement's local search (scoreLocal), with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included; the
 // linearized memories built only where the scene pyramid's tiles are valid.
@@ -68,8 +69,8 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
         const LevelMaps level = randomLevel(rng, size);
         LinearMemories lm;
         lm.build(level);
-        PaddedResponses maps;
-        maps.build(level, 60);
+        LinearMemories grid;  // the forest path's: location step 4, border of 60 pixels
+        grid.buildGrid(level, 4, 15);
         std::vector<ushort> scores;
         std::vector<uchar> acc8;
         std::vector<int> raw;
@@ -108,9 +109,42 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
             for (int k = 0; k < 500; ++k)
                 tls.push_back(Point(rng.uniform(-10 - tp[0].width, size.width + 10),
                                     rng.uniform(-10 - tp[0].height, size.height + 10)));
-            scoreAt(maps, tp, 0, tls, raw);
+            scoreAt(grid, tp, 0, 2, tls, raw);
             for (size_t k = 0; k < tls.size(); ++k)
                 ASSERT_EQ(similarityAll(level, tp, 0, tls[k]), raw[k]) << size << " " << tls[k];
+            // runs of 1..64 neighbouring cells of the location grid at once, in both
+            // instruction sets: each cell's score equals LINEMOD's at its top-left
+            const bool was_optimized = useOptimized();
+            for (int k = 0; k < 40; ++k)
+            {
+                const Point phase(rng.uniform(0, 4), rng.uniform(0, 4));
+                const int len = k < 2 ? 64 - 63 * k : rng.uniform(1, 65);
+                const int qx = rng.uniform(-grid.border, grid.stride - grid.border - len + 1);
+                const int qy = rng.uniform(-grid.border, grid.cells_y); // rows below: border
+                std::vector<int> off, b(3);
+                grid.featureOffsets(tp, 0, 2, phase, &b[0], off);
+                for (int pass = 0; pass < 2; ++pass)
+                {
+                    setUseOptimized(pass == 0);
+                    std::vector<ushort> run(64, 7);  // whole vectors written
+                    scoreRun16(&run[0], &grid.data[0] + grid.cell(qx, qy), &off[0],
+                               static_cast<int>(off.size()), len);
+                    for (int c = 0; c < len; ++c)
+                    {
+                        const Point tl((qx + c) * 4 + phase.x, qy * 4 + phase.y);
+                        // a read past a row's last cell wraps into the next row: compare the
+                        // cells whose features stay in their row
+                        if (tl.x + tp[0].width + 10 >= (grid.cells_x + grid.border) * 4)
+                            continue;
+                        ASSERT_EQ(similarityAll(level, tp, 0, tl), (int)run[c])
+                            << size << " f " << f << " pass " << pass << " run " << len
+                            << " at " << tl;
+                        ++compared;
+                        nonzero += run[c] > 0;
+                    }
+                }
+                setUseOptimized(was_optimized);
+            }
         }
         EXPECT_GT(compared, 1000);
         EXPECT_GT(nonzero, compared / 2);
