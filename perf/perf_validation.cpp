@@ -121,7 +121,6 @@ PERF_TEST_P(Forestmod_Validation, per_candidate,
     {
         LinearMemories lm;
         std::vector<ushort> scores;
-        std::vector<uchar> acc8;
         int64 sum = 0, positions = 0;
         TEST_CYCLE()
         {
@@ -129,7 +128,7 @@ PERF_TEST_P(Forestmod_Validation, per_candidate,
             for (int i = 0; i < n; ++i)
             {
                 int span_x = 0, span_y = 0;
-                ASSERT_TRUE(scoreEverywhere(lm, tps[i], 0, 1, span_x, span_y, scores, acc8));
+                ASSERT_TRUE(scoreEverywhere(lm, tps[i], 0, 1, span_x, span_y, scores));
                 sum += scores[scores.size() / 2];
                 positions = (int64)(span_x + 1) * (span_y + 1);
             }

@@ -41,9 +41,9 @@ static inline bool useAVX2()
 #define FORESTMOD_DISPATCH(call) cpu_baseline::call
 #endif
 
-void addRun8(uchar* dst, const uchar* src, int n)
+void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n)
 {
-    FORESTMOD_DISPATCH(addRun8(dst, src, n));
+    FORESTMOD_DISPATCH(sumRuns16(out, base, off, n_off, n));
 }
 
 void widenAdd(ushort* dst, const uchar* src, int n)
@@ -54,12 +54,6 @@ void widenAdd(ushort* dst, const uchar* src, int n)
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride)
 {
     FORESTMOD_DISPATCH(addBlocks16(acc, src, n, stride));
-}
-
-void scoreRun16(ushort* out, const uchar* base, const int* off, int n, int len)
-{
-    CV_DbgAssert(len >= 0 && len <= 64);
-    FORESTMOD_DISPATCH(scoreRun16(out, base, off, n, len));
 }
 
 void countLabels8(uchar* dst, const uchar* src, int n)

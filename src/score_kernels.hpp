@@ -9,7 +9,7 @@
 // (validator.cpp) and the scan's tests over a row of locations (scan.cpp). OpenCV universal
 // intrinsics, compiled for the baseline and, on x86-64, once more for AVX2 (src/avx2/); the AVX2
 // code runs when cv::checkHardwareSupport(CV_CPU_AVX2) (false after cv::setUseOptimized(false)).
-// Integer additions: every path gives the same bits. scoreRun16 and the scan's kernels are
+// Integer additions: every path gives the same bits. sumRuns16 and the scan's kernels are
 // exported for the tests.
 
 #include "opencv2/core.hpp"
@@ -18,19 +18,18 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-/** dst[0 .. n) += src[0 .. n), 8-bit with wrap-around (the caller keeps the sums under 256). */
-void addRun8(uchar* dst, const uchar* src, int n);
+/** out[0 .. n) = the sum over k < n_off of base[off[k] + 0 .. n): a template's features over a
+run of positions of linearized memories (the exhaustive search: all positions of the T grid; the
+forest path: a template's candidates at neighbouring locations). Tiles of 8 vectors of positions
+whose 8-bit sums of up to 63 features stay in registers, then widened. Writes whole vectors (out
+must hold n rounded up to 64) and reads as far from every base + off[k]
+(LinearMemories::kSlack). */
+CV_EXPORTS void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n);
 /** dst[0 .. n) += src[0 .. n), widened to 16 bits. */
 void widenAdd(ushort* dst, const uchar* src, int n);
 /** acc[r * 16 + c] += sum over k of src[k][r * stride + c]: n 16 x 16 blocks of responses
 (values <= 4; summed in 8 bits, 63 blocks at a time, in registers). */
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
-/** out[0 .. len) = the sum over k < n of base[off[k] + 0 .. len), len <= 64: one template's
-features over a run of consecutive cells of linearized memories (the forest path's candidates of
-neighbouring locations); 8-bit sums of up to 63 features in registers, widened in registers.
-Writes whole vectors: out must hold 64 values. Reads 64 bytes from every base + off[k]
-(LinearMemories::kSlack). */
-CV_EXPORTS void scoreRun16(ushort* out, const uchar* base, const int* off, int n, int len);
 /** dst[0 .. n) += 1 where src != 0, 8-bit with wrap-around (the caller keeps the counts under
 256): the scan's flat-window test over a row of locations. */
 CV_EXPORTS void countLabels8(uchar* dst, const uchar* src, int n);

@@ -22,26 +22,69 @@ namespace forestmod {
 namespace detail {
 namespace FORESTMOD_KERNELS_NAMESPACE {
 
-void addRun8(uchar* dst, const uchar* src, int n);
+void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n);
 void widenAdd(ushort* dst, const uchar* src, int n);
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
-void scoreRun16(ushort* out, const uchar* base, const int* off, int n, int len);
 void countLabels8(uchar* dst, const uchar* src, int n);
 void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok);
 int positionsAbove16(const ushort* src, int n, ushort threshold, int* out);
 
 #ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
-void addRun8(uchar* dst, const uchar* src, int n)
+void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n)
 {
-    int k = 0;
+    if (n_off == 0)
+    {
+        for (int j = 0; j < n; ++j)
+            out[j] = 0;
+        return;
+    }
 #if CV_SIMD
     const int w = v_uint8::nlanes;
-    for (; k <= n - w; k += w)
-        v_store(dst + k, v_add_wrap(vx_load(dst + k), vx_load(src + k)));
+    const int kTile = 8;  // vectors of positions per tile: 8 accumulators in registers
+    for (int x = 0; x < n; x += kTile * w)
+    {
+        const int left = (n - x + w - 1) / w;
+        const int nv = left < kTile ? left : kTile;
+        const uchar* b = base + x;
+        for (int k = 0; k < n_off;)
+        {
+            const bool first = k == 0;
+            const int end = n_off - k < 63 ? n_off : k + 63;
+            v_uint8 a[kTile];
+            for (int j = 0; j < kTile; ++j)
+                a[j] = vx_setzero_u8();
+            if (nv == kTile)
+                for (; k < end; ++k)
+                {
+                    const uchar* p = b + off[k];
+                    for (int j = 0; j < kTile; ++j)
+                        a[j] = v_add_wrap(a[j], vx_load(p + j * w));
+                }
+            else
+                for (; k < end; ++k)
+                {
+                    const uchar* p = b + off[k];
+                    for (int j = 0; j < nv; ++j)
+                        a[j] = v_add_wrap(a[j], vx_load(p + j * w));
+                }
+            for (int j = 0; j < nv; ++j)
+            {
+                ushort* d = out + x + j * w;
+                v_uint16 lo, hi;
+                v_expand(a[j], lo, hi);
+                v_store(d, first ? lo : vx_load(d) + lo);
+                v_store(d + w / 2, first ? hi : vx_load(d + w / 2) + hi);
+            }
+        }
+    }
+#else
+    for (int j = 0; j < n; ++j)
+        out[j] = 0;
+    for (int k = 0; k < n_off; ++k)
+        for (int j = 0; j < n; ++j)
+            out[j] = (ushort)(out[j] + base[off[k] + j]);
 #endif
-    for (; k < n; ++k)
-        dst[k] = (uchar)(dst[k] + src[k]);
 }
 
 void widenAdd(ushort* dst, const uchar* src, int n)
@@ -110,58 +153,6 @@ void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride)
                     acc[r * 16 + c] = (ushort)(acc[r * 16 + c] + src[k][r * stride + c]);
 #endif
     }
-}
-
-void scoreRun16(ushort* out, const uchar* base, const int* off, int n, int len)
-{
-#if CV_SIMD
-    // up to 64 lanes in 1-4 vectors (AVX2: 1-2); 8-bit sums of 63 features at a time, widened
-    // into 16-bit sums in registers
-    const int w = v_uint8::nlanes;
-    const int nv = (len + w - 1) / w;
-    v_uint16 sum[8];
-    for (int j = 0; j < 8; ++j)
-        sum[j] = vx_setzero_u16();
-    for (int k = 0; k < n;)
-    {
-        const int end = n - k < 63 ? n : k + 63;
-        v_uint8 a[4] = { vx_setzero_u8(), vx_setzero_u8(), vx_setzero_u8(), vx_setzero_u8() };
-        if (nv <= 1)
-            for (; k < end; ++k)
-                a[0] = v_add_wrap(a[0], vx_load(base + off[k]));
-        else if (nv == 2)
-            for (; k < end; ++k)
-            {
-                const uchar* p = base + off[k];
-                a[0] = v_add_wrap(a[0], vx_load(p));
-                a[1] = v_add_wrap(a[1], vx_load(p + w));
-            }
-        else
-            for (; k < end; ++k)
-            {
-                const uchar* p = base + off[k];
-                a[0] = v_add_wrap(a[0], vx_load(p));
-                a[1] = v_add_wrap(a[1], vx_load(p + w));
-                a[2] = v_add_wrap(a[2], vx_load(p + 2 * w));
-                a[3] = v_add_wrap(a[3], vx_load(p + 3 * w));
-            }
-        for (int j = 0; j < nv; ++j)
-        {
-            v_uint16 lo, hi;
-            v_expand(a[j], lo, hi);
-            sum[2 * j] += lo;
-            sum[2 * j + 1] += hi;
-        }
-    }
-    for (int j = 0; j < 2 * nv; ++j)
-        v_store(out + j * (w / 2), sum[j]);
-#else
-    for (int j = 0; j < len; ++j)
-        out[j] = 0;
-    for (int k = 0; k < n; ++k)
-        for (int j = 0; j < len; ++j)
-            out[j] = (ushort)(out[j] + base[off[k] + j]);
-#endif
 }
 
 void countLabels8(uchar* dst, const uchar* src, int n)

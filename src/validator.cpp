@@ -164,8 +164,7 @@ void LinearMemories::featureOffsets(const TemplatePyramid& tp, int level_index, 
 static const int kMaxSum16 = 65535 / 4;
 
 bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
-                     int num_modalities, int& span_x, int& span_y, std::vector<ushort>& scores,
-                     std::vector<uchar>& acc8)
+                     int num_modalities, int& span_x, int& span_y, std::vector<ushort>& scores)
 {
     const int T = lm.T, M = num_modalities;
     const cv::linemod::Template& t0 = tp[level_index * M];
@@ -173,14 +172,9 @@ bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int le
     span_y = lm.cells_y - ((t0.height - 1) / T + 1);
     if (span_x < 0 || span_y < 0)
         return false;
-    // positions r * stride + c, the row ends included (they wrap: scored, never reported)
-    const int n = span_y * lm.stride + span_x + 1;
-    scores.assign(n, 0);
-    acc8.resize(n);
-    // LINEMOD's 8-bit accumulation: up to 63 features (63 x 4 = 252) per run, then widened
-    const int kRun = 63;
-    int in_run = 0;
-    std::fill(acc8.begin(), acc8.end(), (uchar)0);
+    // every feature's run of the memories
+    static thread_local std::vector<int> runs;
+    runs.clear();
     for (int m = 0; m < M; ++m)
     {
         const cv::linemod::Template& t = tp[level_index * M + m];
@@ -191,19 +185,18 @@ bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int le
             // positions' cells at most
             if (f.x < 0 || f.y < 0 || f.x > t0.width || f.y > t0.height)
                 continue;
-            const uchar* src = lm.memory(m, f.label, f.x % T, f.y % T)
-                + (f.y / T) * lm.stride + f.x / T;
-            addRun8(&acc8[0], src, n);
-            if (++in_run == kRun)
-            {
-                widenAdd(&scores[0], &acc8[0], n);
-                std::fill(acc8.begin(), acc8.end(), (uchar)0);
-                in_run = 0;
-            }
+            const int qx = lm.div_T[f.x], qy = lm.div_T[f.y]; // f.x <= width < stride T
+            runs.push_back(static_cast<int>(lm.index(m, f.label, f.x - qx * T, f.y - qy * T))
+                           + qy * lm.stride + qx);
         }
     }
-    if (in_run)
-        widenAdd(&scores[0], &acc8[0], n);
+    // positions r * stride + c, the row ends included (they wrap: scored, never reported); the
+    // kernel writes whole vectors
+    const int n = span_y * lm.stride + span_x + 1;
+    scores.resize(n + LinearMemories::kSlack);
+    sumRuns16(&scores[0], &lm.data[0], runs.empty() ? 0 : &runs[0],
+              static_cast<int>(runs.size()), n);
+    scores.resize(n);
     return true;
 }
 
@@ -295,7 +288,6 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
     std::vector<std::vector<Scored> > best(blocks, std::vector<Scored>((size_t)P * K, none));
     parallel_for_(Range(0, blocks), [&](const Range& range) {
         std::vector<ushort> scores;
-        std::vector<uchar> acc8;
         std::vector<int> hits;
         for (int b = range.start; b < range.end; ++b)
         {
@@ -320,7 +312,7 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
                             scores[(size_t)r * lm.stride + c] = (ushort)std::min(
                                 65535, similarityAll(top, tp, L, Point(c * T, r * T)));
                 }
-                else if (!scoreEverywhere(lm, tp, L, M, span_x, span_y, scores, acc8))
+                else if (!scoreEverywhere(lm, tp, L, M, span_x, span_y, scores))
                     continue;
                 sc.row = rows[i];
                 const int raw_thr = rawThreshold(threshold, sc.total);
@@ -494,7 +486,7 @@ static void collectPairs(const ValidationContext& ctx, const LocationCandidates&
 }
 
 // Pairs of one template whose cells lie within this many cells of the first are scored
-// together, as one run of the memories (score_kernels.hpp's scoreRun16: at most 64).
+// together, as one run of the memories (score_kernels.hpp's sumRuns16).
 static const int kRunCells = 64;
 
 // Round k of the breadth-first validation, template by template: chunk k of every pair in
@@ -523,7 +515,7 @@ static void scoreChunks(const ValidationContext& ctx, int k, PairBlock& s)
             const int width = s.base[order[e - 1]] - first + 1;
             if ((int)(e - a) * 16 > width && e - a > 1)
             {
-                scoreRun16(run, P + first, off, len, width);
+                sumRuns16(run, P + first, off, len, width);
                 for (; a < e; ++a)
                 {
                     const int j = order[a];

@@ -70,12 +70,12 @@ struct CV_EXPORTS LinearMemories
 
 /** Raw scores of a template at every position (c T, r T) of the coarsest level where it fits
 (c <= span_x, r <= span_y, LINEMOD's positions), vectorised as cv::linemod: one SIMD add per
-feature over all positions, 8-bit sums of up to 63 features widened into 16-bit ones.
-`scores[r * stride + c]`; returns false when the template fits nowhere. `acc8` is scratch. At
-most 16383 features (16-bit sums). */
+feature and vector of positions, the positions in tiles whose sums stay in registers over all
+features (8-bit sums of up to 63 features widened into 16-bit ones). `scores[r * stride + c]`;
+returns false when the template fits nowhere. At most 16383 features (16-bit sums). */
 CV_EXPORTS bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp,
                                 int level_index, int num_modalities, int& span_x, int& span_y,
-                                std::vector<ushort>& scores, std::vector<uchar>& acc8);
+                                std::vector<ushort>& scores);
 
 /** LINEMOD's local search of the pyramid refinement, vectorised: raw scores of a template at the
 16 x 16 positions (ox + c T, oy + r T), c, r = 0..15, of the level `lm` linearizes (ox, oy

@@ -4,7 +4,7 @@
 
 // The validator's fast paths against LINEMOD's similarity read in place (detail::similarityAll):
 // the forest path's memories on its location grid (scoreAt) at any top-left, in or partly out of
-// the image, and a template's run of neighbouring cells scored at once (scoreRun16),
+// the image, and a template's run of neighbouring cells scored at once (sumRuns16),
 // the exhaustive path's linearized memories (scoreEverywhere) at every position of the T grid and
 // the refinement's local search (scoreLocal), with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included; the
 // linearized memories built only where the scene pyramid's tiles are valid.
@@ -72,7 +72,6 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
         LinearMemories grid;  // the forest path's: location step 4, border of 60 pixels
         grid.buildGrid(level, 4, 15);
         std::vector<ushort> scores;
-        std::vector<uchar> acc8;
         std::vector<int> raw;
         int compared = 0, nonzero = 0;
         for (int f : { 8, 31, 40, 100 }) // 2 f features: 8-bit runs, then 16-bit sums
@@ -80,7 +79,7 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
             const TemplatePyramid tp = randomTemplate(rng, rng.uniform(20, 49),
                                                       rng.uniform(20, 49), f);
             int span_x = 0, span_y = 0;
-            ASSERT_TRUE(scoreEverywhere(lm, tp, 0, 2, span_x, span_y, scores, acc8));
+            ASSERT_TRUE(scoreEverywhere(lm, tp, 0, 2, span_x, span_y, scores));
             EXPECT_EQ(size.width / 8 - ((tp[0].width - 1) / 8 + 1), span_x);
             EXPECT_EQ(size.height / 8 - ((tp[0].height - 1) / 8 + 1), span_y);
             for (int r = 0; r <= span_y; ++r)
@@ -127,8 +126,8 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
                 {
                     setUseOptimized(pass == 0);
                     std::vector<ushort> run(64, 7);  // whole vectors written
-                    scoreRun16(&run[0], &grid.data[0] + grid.cell(qx, qy), &off[0],
-                               static_cast<int>(off.size()), len);
+                    sumRuns16(&run[0], &grid.data[0] + grid.cell(qx, qy), &off[0],
+                              static_cast<int>(off.size()), len);
                     for (int c = 0; c < len; ++c)
                     {
                         const Point tl((qx + c) * 4 + phase.x, qy * 4 + phase.y);
@@ -216,7 +215,6 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
     {
         const TemplatePyramid tp = randomTemplate(rng, 40, 32, f);
         std::vector<ushort> scores[2];
-        std::vector<uchar> acc8;
         int local[2][256];
         bool local_ok[2];
         for (int pass = 0; pass < 2; ++pass)
@@ -227,7 +225,7 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
                 EXPECT_STREQ("baseline", scoreKernelsPath());
             }
             int span_x = 0, span_y = 0;
-            ASSERT_TRUE(scoreEverywhere(lm, tp, 0, 2, span_x, span_y, scores[pass], acc8));
+            ASSERT_TRUE(scoreEverywhere(lm, tp, 0, 2, span_x, span_y, scores[pass]));
             local_ok[pass] = scoreLocal(lm, tp, 0, 2, 8, 16, local[pass]);
         }
         setUseOptimized(was_optimized);
