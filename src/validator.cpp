@@ -46,6 +46,12 @@ static void linearizeCells(const Mat& spread, int T, int cy, int c0, int c1, uch
     }
 }
 
+// x / T rounded down, also for negative x (T > 0).
+static inline int floorDiv(int x, int T)
+{
+    return x >= 0 ? x / T : -((T - 1 - x) / T);
+}
+
 // The image's cell rows of every modality's memories: cell row cy (0 = the image's first) from
 // runs[run_begin[cy]] .. runs[run_begin[cy + 1]) (cell columns, inclusive), in parallel.
 static void fillCells(const LevelMaps& level, const std::vector<Vec2i>& runs,
@@ -149,7 +155,7 @@ void LinearMemories::featureOffsets(const TemplatePyramid& tp, int level_index, 
         {
             const cv::linemod::Feature& f = t.features[i];
             const int x = tl.x + f.x, y = tl.y + f.y;
-            const int qx = cvFloor((double)x / T), qy = cvFloor((double)y / T);
+            const int qx = floorDiv(x, T), qy = floorDiv(y, T);
             offsets.push_back(static_cast<int>(index(m, f.label, x - qx * T, y - qy * T))
                               + qy * stride + qx);
         }
@@ -413,16 +419,21 @@ void scoreAt(const LinearMemories& lm, const TemplatePyramid& templ, int level_i
     const int T = lm.T;
     std::vector<std::vector<int> > offsets(T * T);
     std::vector<int> begin(num_modalities + 1);
+    // the cell of every coordinate the memories reach (no division per top-left)
+    const int lo = -lm.border * T, hi = (std::max(lm.stride, lm.rows) - lm.border) * T;
+    std::vector<int> cell_of(hi - lo);
+    for (int x = lo; x < hi; ++x)
+        cell_of[x - lo] = floorDiv(x, T);
     raw.resize(tls.size());
     for (size_t i = 0; i < tls.size(); ++i)
     {
-        const int qx = cvFloor((double)tls[i].x / T), qy = cvFloor((double)tls[i].y / T);
+        CV_Assert(tls[i].x >= lo && tls[i].x < hi && tls[i].y >= lo && tls[i].y < hi);
+        const int qx = cell_of[tls[i].x - lo], qy = cell_of[tls[i].y - lo];
         const Point phase(tls[i].x - qx * T, tls[i].y - qy * T);
         std::vector<int>& off = offsets[phase.y * T + phase.x];
         if (off.empty())
             lm.featureOffsets(templ, level_index, num_modalities, phase, &begin[0], off);
         const int n = static_cast<int>(off.size());
-        CV_DbgAssert(qx >= -lm.border && qy >= -lm.border);
         raw[i] = n ? sumAt(&lm.data[0] + lm.cell(qx, qy), &off[0], n) : 0;
     }
 }

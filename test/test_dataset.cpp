@@ -44,17 +44,6 @@ static double rotationDeviation(const Matx33d& R)
     return cv::norm(Mat(R * R.t()), Mat(Matx33d::eye())) + std::abs(determinant(R) - 1);
 }
 
-/** A temporary folder, removed at the end of the test. */
-struct TempDir
-{
-    TempDir() : path(cv::tempfile("bop"))
-    {
-        fs::createDirectories(path);
-    }
-    ~TempDir() { fs::remove_all(path); }
-    std::string path;
-};
-
 TEST(Forestmod_Dataset, reads_shipped_lmo_mini)
 {
     const std::string root = fs::getParent(cvtest::findDataFile("lmo_mini/camera.json"));

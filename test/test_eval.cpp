@@ -42,13 +42,6 @@ static int run(const std::string& cmd, const std::string& dir, std::string& out,
     return WEXITSTATUS(status);
 }
 
-static std::string tempDir(const std::string& name)
-{
-    std::string dir = cv::tempfile(name.c_str());
-    cv::utils::fs::createDirectories(dir);
-    return dir;
-}
-
 static void writePly(const Mesh& m, const std::string& path)
 {
     std::ofstream f(path.c_str());
@@ -287,7 +280,8 @@ static void checkPerFrame(const cv::FileNode& r, int frames, bool with_depth,
 TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
 {
     const std::string eval = samplePath("forestmod_eval");
-    const std::string dir = tempDir("forestmod_eval");
+    const TempDir tmp("forestmod_eval");
+    const std::string& dir = tmp.path;
     const std::string root = dir + "/data";
     ASSERT_NO_FATAL_FAILURE(makeDataset(root, 5));
     const std::string json = dir + "/out.json";
@@ -391,7 +385,8 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
 TEST(Forestmod_Eval, first_frame_skips_the_first_frames)
 {
     const std::string eval = samplePath("forestmod_eval");
-    const std::string dir = tempDir("forestmod_eval_first_frame");
+    const TempDir tmp("forestmod_eval_first_frame");
+    const std::string& dir = tmp.path;
     const std::string root = dir + "/data";
     ASSERT_NO_FATAL_FAILURE(makeDataset(root, 3));
     const std::string json = dir + "/out.json";
@@ -415,7 +410,8 @@ TEST(Forestmod_Eval, first_frame_skips_the_first_frames)
 TEST(Forestmod_Eval, synthetic_scenes_give_add)
 {
     const std::string eval = samplePath("forestmod_eval");
-    const std::string dir = tempDir("forestmod_eval_synthetic");
+    const TempDir tmp("forestmod_eval_synthetic");
+    const std::string& dir = tmp.path;
     const std::string root = dir + "/data";
     ASSERT_NO_FATAL_FAILURE(makeDataset(root, 2));
     const std::string json = dir + "/out.json";
@@ -454,7 +450,8 @@ static int printedPoses(const std::string& out)
 TEST(Forestmod_Eval, regimes_give_the_sampling_they_print)
 {
     const std::string eval = samplePath("forestmod_eval");
-    const std::string dir = tempDir("forestmod_eval_regimes");
+    const TempDir tmp("forestmod_eval_regimes");
+    const std::string& dir = tmp.path;
     std::string out, err;
 
     // paper: LINEMOD's sampling over LM-O's pose range, >= 2000 templates per object
@@ -539,7 +536,8 @@ static int checkSweep(const cv::FileNode& sweep, const char* key, const std::str
 TEST(Forestmod_Eval, sweeps_write_json_and_plots)
 {
     const std::string eval = samplePath("forestmod_eval");
-    const std::string dir = tempDir("forestmod_eval_sweeps");
+    const TempDir tmp("forestmod_eval_sweeps");
+    const std::string& dir = tmp.path;
     const std::string root = dir + "/data";
     ASSERT_NO_FATAL_FAILURE(makeDataset(root, 2));
     const std::string plots = dir + "/plots", json = dir + "/out.json";
@@ -611,7 +609,8 @@ TEST(Forestmod_Eval, samples_answer_help_and_reject_a_missing_input)
         { "forestmod_hue", "%s %o" },
         { "forestmod_detect", "--model=%s --color=%o" },
     };
-    const std::string dir = tempDir("forestmod_samples");
+    const TempDir tmp("forestmod_samples");
+    const std::string& dir = tmp.path;
     const std::string missing = dir + "/does_not_exist/input.ply";
     for (size_t i = 0; i < sizeof(samples) / sizeof(samples[0]); ++i)
     {

@@ -27,6 +27,22 @@ using namespace cv::forestmod::samples;
 std::string sharedDataPath();
 /** Folder of the test binary (the samples are built next to it). */
 std::string testBinaryDir();
+
+/** A temporary folder (cv::tempfile, `suffix` in its name), removed with what it holds at the
+end of the test. */
+struct TempDir
+{
+    explicit TempDir(const std::string& suffix = "dir") : path(cv::tempfile(suffix.c_str()))
+    {
+        cv::utils::fs::createDirectories(path);
+    }
+    ~TempDir() { cv::utils::fs::remove_all(path); }
+    std::string path;
+
+private:
+    TempDir(const TempDir&);
+    TempDir& operator=(const TempDir&);
+};
 } // namespace opencv_test
 
 #endif
