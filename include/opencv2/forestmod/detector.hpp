@@ -86,7 +86,7 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     SIMD add per feature over all positions of the T grid); each position keeps its best
     max_survivors x (T / location step)^2 templates over the threshold as coarse matches, as many
     as the forest path's locations in its cell keep. A validated pair costs about as much as
-    5-10 exhaustive (position, template) pairs and the location grid has 4x the positions of
+    9-14 exhaustive (position, template) pairs and the location grid has 4x the positions of
     the T grid; the traversal that makes the pairs, which the count leaves out, costs as much
     again with many groups: default 0.01, measured on LM-O frames that the evaluation does not
     report (doc/detector.md, "Bounded worst case"). 0: every group exhaustive (no traversal);
