@@ -35,10 +35,12 @@ struct CV_EXPORTS LinearMemories
 {
     std::vector<uchar> data;   //!< the memories, then kSlack zero bytes (whole-vector reads)
     int T;
-    int cells_x, cells_y;   //!< whole cells of the level: the positions
+    int cells_x, cells_y;   //!< build: the level's whole cells (the positions); buildGrid: every
+                            //!< cell touching the padded spread images
     int border;             //!< cells of zeros before cell (0, 0), each way
     int stride, rows;       //!< cells of a memory
-    std::vector<ushort> div_T; //!< x / T for x < max(stride, rows) T (no division per feature)
+    std::vector<ushort> div_T; //!< build only: x / T for x < max(stride, rows) T (no division
+                               //!< per feature)
 
     /** Zero bytes after the memories: a run of up to kSlack cells can be read from any cell. */
     static const int kSlack = 64;
@@ -59,7 +61,7 @@ struct CV_EXPORTS LinearMemories
     {
         return &data[index(modality, label, dx, dy)];
     }
-    /** Offset of cell (cx, cy) (border cells: negative) in every memory. */
+    /** Offset of cell (cx, cy) in every memory (the border's cells have negative cx or cy). */
     int cell(int cx, int cy) const { return (cy + border) * stride + cx + border; }
     /** Offsets from cell(0, 0) of the features of a template whose top-left is `tl` pixels from
     the cell's corner (modality by modality, in the template's order): the response of feature
