@@ -538,17 +538,14 @@ static void sampleFirstTrees(ScanContext& ctx, const std::vector<int>& sample, i
                              const SampleLimits& limits)
 {
     const int NG = (int)ctx.groups.size();
-    ScanContext first = ctx;
-    bool any = false;
+    std::vector<uchar> tried(NG);
     for (int g = 0; g < NG; ++g)
-    {
-        first.active[g] = ctx.active[g] && ctx.trees[g] > 1 && !ctx.any_tree[g];
-        first.trees[g] = 1;
-        any = any || first.active[g];
-    }
-    if (!any)
-        return;
-    const std::vector<uchar> tried = first.active;
+        tried[g] = ctx.active[g] && ctx.trees[g] > 1 && !ctx.any_tree[g];
+    if (std::find(tried.begin(), tried.end(), (uchar)1) == tried.end())
+        return;  // no group to try: the context is not copied
+    ScanContext first = ctx;
+    first.active = tried;
+    std::fill(first.trees.begin(), first.trees.end(), 1);
     std::vector<RowOutput> rows(*std::max_element(sample.begin(), sample.end()) + 1);
     sampleGroups(first, sample, W, 0, rows, limits);
     for (int g = 0; g < NG; ++g)
