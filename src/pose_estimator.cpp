@@ -73,6 +73,7 @@ void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
     meshes_[class_id] = mesh;
     diameters_[class_id] = mesh.diameter();
     coarse_[class_id] = coarseMesh(mesh, diameters_[class_id] / 64);
+    coarse_winding_[class_id] = closedWinding(coarse_[class_id]);
     handles_.erase(class_id); // uploaded again on the next use
 }
 
@@ -100,13 +101,15 @@ int PoseEstimator::meshHandle(const String& class_id, Size size)
     return hit->second;
 }
 
-const Mesh* PoseEstimator::verificationMesh(const String& class_id, double& diameter) const
+const Mesh* PoseEstimator::verificationMesh(const String& class_id, double& diameter,
+                                            int& winding) const
 {
     AutoLock lock(mutex_);
     std::map<String, Mesh>::const_iterator it = coarse_.find(class_id);
     if (it == coarse_.end())
         return 0;
     diameter = diameters_.find(class_id)->second;
+    winding = coarse_winding_.find(class_id)->second;
     return &it->second;
 }
 

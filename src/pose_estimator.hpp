@@ -42,10 +42,11 @@ public:
                          std::vector<PoseMatch>& detections);
 
     /** The mesh of a class the verification draws (coarseMesh(): vertices clustered on a grid
-    of 1/64 of the diameter) and the diameter of the full mesh (mm); null without one. The
+    of 1/64 of the diameter), its closedWinding() and the diameter of the full mesh (mm); null
+    without one. The
     pointer stays valid until setMesh() is called again (which must not run concurrently with
     detection). */
-    const Mesh* verificationMesh(const String& class_id, double& diameter) const;
+    const Mesh* verificationMesh(const String& class_id, double& diameter, int& winding) const;
 
 private:
     int meshHandle(const String& class_id, Size size);
@@ -58,6 +59,7 @@ private:
     std::map<String, Mesh> meshes_;
     std::map<String, double> diameters_;
     std::map<String, Mesh> coarse_;       //!< verificationMesh()
+    std::map<String, int> coarse_winding_; //!< verificationMesh()
 
     Ptr<Renderer> renderer_;              //!< of the last scene size
     std::map<String, int> handles_;       //!< mesh handles in renderer_

@@ -112,6 +112,42 @@ Mesh coarseMesh(const Mesh& mesh, double cell)
     return out;
 }
 
+int closedWinding(const Mesh& mesh)
+{
+    const size_t nf = mesh.faces.size();
+    if (nf == 0)
+        return 0;
+    const uint64 nv = mesh.vertices.size();
+    std::vector<uint64> edges;
+    edges.reserve(3 * nf);
+    double volume = 0;
+    for (size_t f = 0; f < nf; ++f)
+    {
+        const Vec3i& F = mesh.faces[f];
+        for (int k = 0; k < 3; ++k)
+            edges.push_back((uint64)F[k] * nv + (uint64)F[(k + 1) % 3]);
+        const Point3f &a = mesh.vertices[F[0]], &b = mesh.vertices[F[1]], &c = mesh.vertices[F[2]];
+        volume += (double)a.dot(b.cross(c));
+    }
+    std::sort(edges.begin(), edges.end());
+    // a directed edge is paired when it occurs once and its reverse once
+    size_t paired = 0;
+    for (size_t i = 0; i < edges.size(); ++i)
+    {
+        const bool repeated = (i > 0 && edges[i - 1] == edges[i])
+            || (i + 1 < edges.size() && edges[i + 1] == edges[i]);
+        if (repeated)
+            continue;
+        const uint64 reverse = (edges[i] % nv) * nv + edges[i] / nv;
+        const std::pair<std::vector<uint64>::const_iterator, std::vector<uint64>::const_iterator>
+            r = std::equal_range(edges.begin(), edges.end(), reverse);
+        paired += r.second - r.first == 1;
+    }
+    if (paired < 0.99 * edges.size() || volume == 0)
+        return 0;
+    return volume > 0 ? 1 : -1;
+}
+
 static void checkWeight(double w, const char* name)
 {
     if (!(w >= 0 && w < 1e6))
@@ -167,16 +203,17 @@ struct Rendered
     double diameter;
 };
 
-// The mesh at (R, t) seen with K, drawn into the crop around its projection (the projected
-// bounding box widened by margin, clipped to the image): z-buffered triangles, a pixel is the
-// object's when its centre is covered (the Renderer's rule), vertex colours interpolated (no
-// shading: hue and saturation are what the scores read), depth in mm. The crop is empty when a
-// corner of the bounding box is behind the camera or nothing projects into the image. No lock
-// (unlike the OSMesa Renderer): the hypotheses are drawn in parallel.
-static void rasterize(const Mesh& mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t,
-                      Size image, int margin, Rendered& r)
+} // namespace
+
+// Two passes: the nearest face of every pixel first (z-buffer and face index), then the colour
+// of that face only, so that the faces drawn over do not cost their colours.
+void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R, const Vec3d& t,
+              Size image, int margin, Rect& rect, Mat& color, Mat& depth, Mat& mask)
 {
-    r.rect = Rect();
+    rect = Rect();
+    color.release();
+    depth.release();
+    mask.release();
     const Point3f lo = mesh.bboxMin(), hi = mesh.bboxMax();
     double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
     for (int c = 0; c < 8; ++c)
@@ -194,11 +231,11 @@ static void rasterize(const Mesh& mesh, const Matx33d& K, const Matx33d& R, cons
     if (!(x1 - x0 < 4.0 * image.width && y1 - y0 < 4.0 * image.height && x0 > -1e6
           && y0 > -1e6 && x1 < 1e6 && y1 < 1e6)) // far off the image (and int-safe)
         return;
-    r.rect = Rect(cvFloor(x0) - margin, cvFloor(y0) - margin, cvCeil(x1 - x0) + 2 * margin + 2,
-                  cvCeil(y1 - y0) + 2 * margin + 2) & Rect(0, 0, image.width, image.height);
-    if (r.rect.area() == 0)
+    rect = Rect(cvFloor(x0) - margin, cvFloor(y0) - margin, cvCeil(x1 - x0) + 2 * margin + 2,
+                cvCeil(y1 - y0) + 2 * margin + 2) & Rect(0, 0, image.width, image.height);
+    if (rect.area() == 0)
         return;
-    const Size sz = r.rect.size();
+    const Size sz = rect.size();
     // vertices in the crop: (u, v, z)
     const size_t nv = mesh.vertices.size();
     std::vector<Vec3f> p(nv);
@@ -209,17 +246,19 @@ static void rasterize(const Mesh& mesh, const Matx33d& K, const Matx33d& R, cons
         const Point3f& v = mesh.vertices[i];
         const Vec3d q = KR * Vec3d(v.x, v.y, v.z) + Kt;
         const double z = (R(2, 0) * v.x + R(2, 1) * v.y + R(2, 2) * v.z) + t[2];
-        p[i] = Vec3f((float)(q[0] / q[2] - r.rect.x), (float)(q[1] / q[2] - r.rect.y), (float)z);
+        p[i] = Vec3f((float)(q[0] / q[2] - rect.x), (float)(q[1] / q[2] - rect.y), (float)z);
     }
+    // The signed area of a projected face has the sign of n . a (n its normal, a a corner, in
+    // the camera's frame): negative when an outward normal faces the camera.
+    const float inside_sign = (float)winding;
     Mat zbuf(sz, CV_32F, Scalar(FLT_MAX));
-    Mat col(sz, CV_8UC3, Scalar::all(0));
-    const bool has_colors = mesh.colors.size() == nv;
+    Mat face_of(sz, CV_32S, Scalar(-1));
     for (size_t f = 0; f < mesh.faces.size(); ++f)
     {
         const Vec3i& F = mesh.faces[f];
         const Vec3f &a = p[F[0]], &b = p[F[1]], &c = p[F[2]];
         const float area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
-        if (std::abs(area) < 1e-12f)
+        if (std::abs(area) < 1e-12f || area * inside_sign > 0)
             continue;
         const int ux0 = std::max(0, (int)std::ceil(std::min(a[0], std::min(b[0], c[0]))));
         const int ux1 = std::min(sz.width - 1,
@@ -233,7 +272,7 @@ static void rasterize(const Mesh& mesh, const Matx33d& K, const Matx33d& R, cons
         for (int y = vy0; y <= vy1; ++y)
         {
             float* zr = zbuf.ptr<float>(y);
-            Vec3b* cr = col.ptr<Vec3b>(y);
+            int* fr = face_of.ptr<int>(y);
             for (int x = ux0; x <= ux1; ++x)
             {
                 // barycentric weights (signed areas of the sub-triangles)
@@ -246,46 +285,126 @@ static void rasterize(const Mesh& mesh, const Matx33d& K, const Matx33d& R, cons
                 if (!(z < zr[x]))
                     continue;
                 zr[x] = z;
-                if (has_colors)
-                {
-                    const Vec3b &ca = mesh.colors[F[0]], &cb = mesh.colors[F[1]],
-                                &cc = mesh.colors[F[2]];
-                    for (int k = 0; k < 3; ++k)
-                        cr[x][k] = saturate_cast<uchar>(w0 * ca[k] + w1 * cb[k] + w2 * cc[k]);
-                }
-                else
-                    cr[x] = Vec3b(128, 128, 128);
+                fr[x] = (int)f;
             }
         }
     }
-    r.mask = zbuf < FLT_MAX;
-    zbuf.setTo(0, ~r.mask);
-    zbuf.convertTo(r.depth, CV_16U);
-    r.depth.setTo(1, r.mask & (r.depth == 0));
-    r.color = col;
+    // vertex colours interpolated on the visible faces (grey without colours)
+    color.create(sz, CV_8UC3);
+    color.setTo(Scalar::all(0));
+    const bool has_colors = mesh.colors.size() == nv;
+    for (int y = 0; y < sz.height; ++y)
+    {
+        const int* fr = face_of.ptr<int>(y);
+        Vec3b* cr = color.ptr<Vec3b>(y);
+        for (int x = 0; x < sz.width; ++x)
+        {
+            if (fr[x] < 0)
+                continue;
+            if (!has_colors)
+            {
+                cr[x] = Vec3b(128, 128, 128);
+                continue;
+            }
+            const Vec3i& F = mesh.faces[fr[x]];
+            const Vec3f &a = p[F[0]], &b = p[F[1]], &c = p[F[2]];
+            const float inv
+                = 1.f / ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+            const float w0 = ((b[0] - x) * (c[1] - y) - (b[1] - y) * (c[0] - x)) * inv;
+            const float w1 = ((c[0] - x) * (a[1] - y) - (c[1] - y) * (a[0] - x)) * inv;
+            const float w2 = 1.f - w0 - w1;
+            const Vec3b &ca = mesh.colors[F[0]], &cb = mesh.colors[F[1]], &cc = mesh.colors[F[2]];
+            for (int k = 0; k < 3; ++k)
+                cr[x][k] = saturate_cast<uchar>(w0 * ca[k] + w1 * cb[k] + w2 * cc[k]);
+        }
+    }
+    mask = face_of >= 0;
+    zbuf.setTo(0, ~mask);
+    zbuf.convertTo(depth, CV_16U);
+    depth.setTo(1, mask & (depth == 0));
 }
 
-// The scene's edges in a crop: 255 where there is none, else the orientation bin of the edge
-// (Canny with the refinement's thresholds; the orientation of the strongest channel's gradient,
-// as computeEdgeMaps)
-static Mat sceneEdgeBins(const Mat& color, const EdgeRefineParams& ep)
+namespace {
+
+// The 3x3 Sobel derivatives of the channels of an 8-bit image at single pixels, as cv::Sobel
+// computes them on the image (or on a ROI of it: the pixels around the ROI are read, the whole
+// image's own edge reflected as BORDER_REFLECT_101), integer-exact.
+struct PointSobel
 {
-    Mat edges, dx, dy;
-    Canny(color, edges, ep.canny_low, ep.canny_high, 3, true);
-    strongestGradient(color, dx, dy);
-    Mat bins(color.size(), CV_8UC1, Scalar(255));
-    for (int y = 0; y < color.rows; ++y)
+    explicit PointSobel(const Mat& image) : img(image), cn(image.channels())
     {
-        const uchar* e = edges.ptr<uchar>(y);
-        const float* gx = dx.ptr<float>(y);
-        const float* gy = dy.ptr<float>(y);
-        uchar* o = bins.ptr<uchar>(y);
-        for (int x = 0; x < color.cols; ++x)
-            if (e[x])
-                o[x] = (uchar)orientationBin(gx[x], gy[x], ep.orientations);
+        img.locateROI(whole, ofs);
     }
-    return bins;
-}
+    void at(int x, int y, int c, int& gx, int& gy) const
+    {
+        int v[3][3];
+        const bool inside = x + ofs.x >= 1 && y + ofs.y >= 1 && x + ofs.x + 1 < whole.width
+            && y + ofs.y + 1 < whole.height;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx)
+            {
+                int xx = x + dx, yy = y + dy;
+                if (!inside)
+                {
+                    xx = borderInterpolate(xx + ofs.x, whole.width, BORDER_REFLECT_101) - ofs.x;
+                    yy = borderInterpolate(yy + ofs.y, whole.height, BORDER_REFLECT_101) - ofs.y;
+                }
+                // a ROI's neighbours are its parent's pixels
+                v[dy + 1][dx + 1] = img.data[(ptrdiff_t)yy * (ptrdiff_t)img.step[0] + xx * cn + c];
+            }
+        gx = (v[0][2] - v[0][0]) + 2 * (v[1][2] - v[1][0]) + (v[2][2] - v[2][0]);
+        gy = (v[2][0] - v[0][0]) + 2 * (v[2][1] - v[0][1]) + (v[2][2] - v[0][2]);
+    }
+    const Mat& img;
+    const int cn;
+    Size whole;
+    Point ofs;
+};
+
+// The scene's edges in a crop (Canny with the refinement's thresholds) and their orientation bins
+// (the orientation of the strongest channel's gradient, as computeEdgeMaps), each computed the
+// first time a contour point looks at it: the contour's neighbourhood holds a few of the edges.
+class SceneEdges
+{
+public:
+    SceneEdges(const Mat& color, const EdgeRefineParams& ep)
+        : color_(color), sobel_(color), orientations_(ep.orientations)
+    {
+        Canny(color, bins_, ep.canny_low, ep.canny_high, 3, true);
+        bins_.setTo(kUnknown, bins_);
+        bins_.setTo(kNone, bins_ == 0);
+    }
+    // the orientation bin of the edge at (x, y), kNone without one
+    int bin(int x, int y)
+    {
+        uchar& b = bins_.at<uchar>(y, x);
+        if (b == kUnknown)
+        {
+            int best_x = 0, best_y = 0, m = -1;
+            for (int c = 0; c < color_.channels(); ++c) // the first channel of the largest
+            {
+                int gx, gy;
+                sobel_.at(x, y, c, gx, gy);
+                if (gx * gx + gy * gy > m)
+                {
+                    m = gx * gx + gy * gy;
+                    best_x = gx;
+                    best_y = gy;
+                }
+            }
+            b = (uchar)orientationBin((float)best_x, (float)best_y, orientations_);
+        }
+        return b;
+    }
+    Size size() const { return bins_.size(); }
+    static const uchar kNone = 255, kUnknown = 254;
+
+private:
+    const Mat& color_;
+    const PointSobel sobel_;
+    const int orientations_;
+    Mat bins_;
+};
 
 // colour class of an HSV pixel: -1 achromatic, else the hue (0..179)
 static inline int hueClass(const uchar* hsv, int min_s, int min_v)
@@ -303,18 +422,21 @@ static inline bool colourAgrees(int hm, int hs, int tol)
 }
 
 // a scene edge of orientation bin b (or a neighbouring one) within radius r of (x, y)
-static bool edgeNear(const Mat& bins, int x, int y, int b, int B, double r)
+static bool edgeNear(SceneEdges& edges, int x, int y, int b, int B, double r)
 {
     const int R = cvCeil(r);
     const double r2 = r * r;
-    for (int v = std::max(0, y - R); v <= std::min(bins.rows - 1, y + R); ++v)
+    const Size sz = edges.size();
+    for (int v = std::max(0, y - R); v <= std::min(sz.height - 1, y + R); ++v)
     {
-        const uchar* row = bins.ptr<uchar>(v);
-        for (int u = std::max(0, x - R); u <= std::min(bins.cols - 1, x + R); ++u)
+        for (int u = std::max(0, x - R); u <= std::min(sz.width - 1, x + R); ++u)
         {
-            if (row[u] == 255 || (u - x) * (u - x) + (v - y) * (v - y) > r2)
+            if ((u - x) * (u - x) + (v - y) * (v - y) > r2)
                 continue;
-            const int d = std::abs((int)row[u] - b);
+            const int e = edges.bin(u, v);
+            if (e == SceneEdges::kNone)
+                continue;
+            const int d = std::abs(e - b);
             if (std::min(d, B - d) <= 1)
                 return true;
         }
@@ -399,14 +521,14 @@ static void scoreContour(const Rendered& r, const Mat& scene_color, bool with_de
                          PoseMatch& m)
 {
     const Size sz = r.rect.size();
-    const Mat bins = sceneEdgeBins(scene_color(r.rect), p.edge_params);
+    const Mat scene_crop = scene_color(r.rect);
+    SceneEdges edges(scene_crop, p.edge_params);
     const int B = p.edge_params.orientations;
-    Mat inner, contour, blurred, gx, gy;
+    Mat inner, contour, blurred;
     erode(r.mask, inner, Mat(), Point(-1, -1), 1);
     contour = r.mask - inner;
     GaussianBlur(r.mask, blurred, Size(5, 5), 0);
-    Sobel(blurred, gx, CV_32F, 1, 0, 3);
-    Sobel(blurred, gy, CV_32F, 0, 1, 3);
+    const PointSobel sobel(blurred);
     const int W = 3; // half window of the local evidence of a contour point
     int n_contour = 0, n_matched = 0, n_covered = 0;
     for (int y = 0; y < sz.height; ++y)
@@ -417,8 +539,10 @@ static void scoreContour(const Rendered& r, const Mat& scene_color, bool with_de
             if (!c[x])
                 continue;
             ++n_contour;
-            const int b = orientationBin(gx.at<float>(y, x), gy.at<float>(y, x), B);
-            if (edgeNear(bins, x, y, b, B, p.edge_distance))
+            int gx, gy;
+            sobel.at(x, y, 0, gx, gy);
+            const int b = orientationBin((float)gx, (float)gy, B);
+            if (edgeNear(edges, x, y, b, B, p.edge_distance))
             {
                 ++n_matched;
                 continue;
@@ -506,6 +630,7 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
     std::vector<size_t> todo;
     std::vector<const Mesh*> meshes;
     std::vector<double> diameters;
+    std::vector<int> windings;
     std::map<String, int> per_class;
     for (size_t i = 0; i < matches.size(); ++i)
     {
@@ -513,13 +638,15 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
         if (!m.has_pose || per_class[m.class_id] >= p.top_k)
             continue;
         double diameter = 0;
-        const Mesh* mesh = poses.verificationMesh(m.class_id, diameter);
+        int winding = 0;
+        const Mesh* mesh = poses.verificationMesh(m.class_id, diameter, winding);
         if (!mesh)
             continue;
         ++per_class[m.class_id];
         todo.push_back(i);
         meshes.push_back(mesh);
         diameters.push_back(diameter);
+        windings.push_back(winding);
     }
     // 2. each drawn in its crop and scored against the scene there
     const int margin = cvCeil(p.edge_distance) + 4;
@@ -529,7 +656,8 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
             PoseMatch& m = matches[todo[j]];
             Rendered r;
             r.diameter = diameters[j];
-            rasterize(*meshes[j], K, m.R, m.t, color.size(), margin, r);
+            drawMesh(*meshes[j], windings[j], K, m.R, m.t, color.size(), margin, r.rect,
+                     r.color, r.depth, r.mask);
             if (r.rect.area() == 0 || countNonZero(r.mask) == 0)
                 noEvidence(p, !depth.empty(), m);
             else

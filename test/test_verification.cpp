@@ -6,6 +6,7 @@
 // prefers loses after verification; parameters round-trip through FileStorage; bad input raises.
 
 #include "test_precomp.hpp"
+#include "../src/verification.hpp"
 
 namespace opencv_test { namespace {
 
@@ -222,6 +223,57 @@ TEST(Forestmod_Verification, verify_keeps_unverifiable_hypotheses_in_order)
         EXPECT_EQ(m[i].verification, -1.0);
     }
     EXPECT_EQ(stats.verified, 0);
+}
+
+// The verification draws closed meshes without the faces seen from inside: the same pixels,
+// depths and colours as drawing every face; the orientation of the faces is found from the mesh.
+TEST(Forestmod_Verification, drawing_skips_the_inside_of_closed_meshes)
+{
+    using cv::forestmod::detail::closedWinding;
+    using cv::forestmod::detail::coarseMesh;
+    using cv::forestmod::detail::drawMesh;
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    const Mesh coarse = coarseMesh(ape, ape.diameter() / 64);
+    EXPECT_EQ(closedWinding(ape), 1);
+    ASSERT_EQ(closedWinding(coarse), 1);
+    Mesh reversed = coarse;
+    for (size_t f = 0; f < reversed.faces.size(); ++f)
+        std::swap(reversed.faces[f][1], reversed.faces[f][2]);
+    EXPECT_EQ(closedWinding(reversed), -1);
+    Mesh open = coarse; // every 20th face removed: not closed
+    for (size_t f = open.faces.size(); f-- > 0;)
+        if (f % 20 == 0)
+            open.faces.erase(open.faces.begin() + f);
+    EXPECT_EQ(closedWinding(open), 0);
+    EXPECT_EQ(closedWinding(Mesh()), 0);
+
+    ViewSampler::Params sp;
+    sp.level = 1;
+    sp.radii = std::vector<double>(1, 700.0);
+    const std::vector<ViewPose> views = ViewSampler(sp).poses(
+        Point3d(ape.center().x, ape.center().y, ape.center().z));
+    ASSERT_GE(views.size(), 10u);
+    const Matx33d K = lmoIntrinsics();
+    const Size image(640, 480);
+    for (size_t i = 0; i < views.size(); i += views.size() / 10)
+    {
+        Rect r0, r1, r2, r3;
+        Mat c0, d0, m0, c1, d1, m1, c2, d2, m2, c3, d3, m3;
+        drawMesh(coarse, 0, K, views[i].R, views[i].t, image, 7, r0, c0, d0, m0);
+        drawMesh(coarse, 1, K, views[i].R, views[i].t, image, 7, r1, c1, d1, m1);
+        drawMesh(reversed, -1, K, views[i].R, views[i].t, image, 7, r2, c2, d2, m2);
+        ASSERT_GT(countNonZero(m0), 1000) << i;
+        EXPECT_EQ(r0, r1);
+        EXPECT_EQ(r0, r2);
+        EXPECT_EQ(cvtest::norm(m0, m1, NORM_INF), 0) << i;
+        EXPECT_EQ(cvtest::norm(d0, d1, NORM_INF), 0) << i;
+        EXPECT_EQ(cvtest::norm(c0, c1, NORM_INF), 0) << i;
+        EXPECT_EQ(cvtest::norm(m0, m2, NORM_INF), 0) << i;
+        EXPECT_LE(cvtest::norm(d0, d2, NORM_INF), 1) << i; // the corners' order rounds z
+        // skipping the other side draws the far side of the object: farther on the mean
+        drawMesh(coarse, -1, K, views[i].R, views[i].t, image, 7, r3, c3, d3, m3);
+        EXPECT_GT(mean(d3, m3 & m0)[0], mean(d0, m3 & m0)[0] + 5) << i;
+    }
 }
 
 TEST(Forestmod_Verification, params_read_write)
