@@ -43,9 +43,8 @@ public:
 
     /** The mesh of a class the verification draws (coarseMesh(): vertices clustered on a grid
     of 1/64 of the diameter), its closedWinding() and the diameter of the full mesh (mm); null
-    without one. The
-    pointer stays valid until setMesh() is called again (which must not run concurrently with
-    detection). */
+    without one. The pointer stays valid until setMesh() is called again (which must not run
+    concurrently with detection). */
     const Mesh* verificationMesh(const String& class_id, double& diameter, int& winding) const;
 
 private:

@@ -203,6 +203,22 @@ struct Rendered
     double diameter;
 };
 
+// twice the signed area of a projected face (u, v, z corners)
+static inline float signedArea(const Vec3f& a, const Vec3f& b, const Vec3f& c)
+{
+    return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+// barycentric weights of pixel (x, y) in a face (signed areas of the sub-triangles times inv =
+// 1 / signedArea)
+static inline void barycentric(const Vec3f& a, const Vec3f& b, const Vec3f& c, float inv, int x,
+                               int y, float& w0, float& w1, float& w2)
+{
+    w0 = ((b[0] - x) * (c[1] - y) - (b[1] - y) * (c[0] - x)) * inv;
+    w1 = ((c[0] - x) * (a[1] - y) - (c[1] - y) * (a[0] - x)) * inv;
+    w2 = 1.f - w0 - w1;
+}
+
 } // namespace
 
 // Two passes: the nearest face of every pixel first (z-buffer and face index), then the colour
@@ -257,7 +273,7 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
     {
         const Vec3i& F = mesh.faces[f];
         const Vec3f &a = p[F[0]], &b = p[F[1]], &c = p[F[2]];
-        const float area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        const float area = signedArea(a, b, c);
         if (std::abs(area) < 1e-12f || area * inside_sign > 0)
             continue;
         const int ux0 = std::max(0, (int)std::ceil(std::min(a[0], std::min(b[0], c[0]))));
@@ -275,10 +291,8 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
             int* fr = face_of.ptr<int>(y);
             for (int x = ux0; x <= ux1; ++x)
             {
-                // barycentric weights (signed areas of the sub-triangles)
-                const float w0 = ((b[0] - x) * (c[1] - y) - (b[1] - y) * (c[0] - x)) * inv;
-                const float w1 = ((c[0] - x) * (a[1] - y) - (c[1] - y) * (a[0] - x)) * inv;
-                const float w2 = 1.f - w0 - w1;
+                float w0, w1, w2;
+                barycentric(a, b, c, inv, x, y, w0, w1, w2);
                 if (w0 < 0 || w1 < 0 || w2 < 0)
                     continue;
                 const float z = w0 * a[2] + w1 * b[2] + w2 * c[2];
@@ -308,11 +322,8 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
             }
             const Vec3i& F = mesh.faces[fr[x]];
             const Vec3f &a = p[F[0]], &b = p[F[1]], &c = p[F[2]];
-            const float inv
-                = 1.f / ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
-            const float w0 = ((b[0] - x) * (c[1] - y) - (b[1] - y) * (c[0] - x)) * inv;
-            const float w1 = ((c[0] - x) * (a[1] - y) - (c[1] - y) * (a[0] - x)) * inv;
-            const float w2 = 1.f - w0 - w1;
+            float w0, w1, w2;
+            barycentric(a, b, c, 1.f / signedArea(a, b, c), x, y, w0, w1, w2);
             const Vec3b &ca = mesh.colors[F[0]], &cb = mesh.colors[F[1]], &cc = mesh.colors[F[2]];
             for (int k = 0; k < 3; ++k)
                 cr[x][k] = saturate_cast<uchar>(w0 * ca[k] + w1 * cb[k] + w2 * cc[k]);
@@ -326,41 +337,6 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
 
 namespace {
 
-// The 3x3 Sobel derivatives of the channels of an 8-bit image at single pixels, as cv::Sobel
-// computes them on the image (or on a ROI of it: the pixels around the ROI are read, the whole
-// image's own edge reflected as BORDER_REFLECT_101), integer-exact.
-struct PointSobel
-{
-    explicit PointSobel(const Mat& image) : img(image), cn(image.channels())
-    {
-        img.locateROI(whole, ofs);
-    }
-    void at(int x, int y, int c, int& gx, int& gy) const
-    {
-        int v[3][3];
-        const bool inside = x + ofs.x >= 1 && y + ofs.y >= 1 && x + ofs.x + 1 < whole.width
-            && y + ofs.y + 1 < whole.height;
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx)
-            {
-                int xx = x + dx, yy = y + dy;
-                if (!inside)
-                {
-                    xx = borderInterpolate(xx + ofs.x, whole.width, BORDER_REFLECT_101) - ofs.x;
-                    yy = borderInterpolate(yy + ofs.y, whole.height, BORDER_REFLECT_101) - ofs.y;
-                }
-                // a ROI's neighbours are its parent's pixels
-                v[dy + 1][dx + 1] = img.data[(ptrdiff_t)yy * (ptrdiff_t)img.step[0] + xx * cn + c];
-            }
-        gx = (v[0][2] - v[0][0]) + 2 * (v[1][2] - v[1][0]) + (v[2][2] - v[2][0]);
-        gy = (v[2][0] - v[0][0]) + 2 * (v[2][1] - v[0][1]) + (v[2][2] - v[0][2]);
-    }
-    const Mat& img;
-    const int cn;
-    Size whole;
-    Point ofs;
-};
-
 // The scene's edges in a crop (Canny with the refinement's thresholds) and their orientation bins
 // (the orientation of the strongest channel's gradient, as computeEdgeMaps), each computed the
 // first time a contour point looks at it: the contour's neighbourhood holds a few of the edges.
@@ -368,7 +344,7 @@ class SceneEdges
 {
 public:
     SceneEdges(const Mat& color, const EdgeRefineParams& ep)
-        : color_(color), sobel_(color), orientations_(ep.orientations)
+        : sobel_(color), orientations_(ep.orientations)
     {
         Canny(color, bins_, ep.canny_low, ep.canny_high, 3, true);
         bins_.setTo(kUnknown, bins_);
@@ -380,19 +356,9 @@ public:
         uchar& b = bins_.at<uchar>(y, x);
         if (b == kUnknown)
         {
-            int best_x = 0, best_y = 0, m = -1;
-            for (int c = 0; c < color_.channels(); ++c) // the first channel of the largest
-            {
-                int gx, gy;
-                sobel_.at(x, y, c, gx, gy);
-                if (gx * gx + gy * gy > m)
-                {
-                    m = gx * gx + gy * gy;
-                    best_x = gx;
-                    best_y = gy;
-                }
-            }
-            b = (uchar)orientationBin((float)best_x, (float)best_y, orientations_);
+            int gx = 0, gy = 0;
+            sobel_.strongest(x, y, gx, gy);
+            b = (uchar)orientationBin((float)gx, (float)gy, orientations_);
         }
         return b;
     }
@@ -400,7 +366,6 @@ public:
     static const uchar kNone = 255, kUnknown = 254;
 
 private:
-    const Mat& color_;
     const PointSobel sobel_;
     const int orientations_;
     Mat bins_;
@@ -540,7 +505,7 @@ static void scoreContour(const Rendered& r, const Mat& scene_color, bool with_de
                 continue;
             ++n_contour;
             int gx, gy;
-            sobel.at(x, y, 0, gx, gy);
+            sobel.at(x, y, 0, gx, gy); // the smoothed mask's gradient
             const int b = orientationBin((float)gx, (float)gy, B);
             if (edgeNear(edges, x, y, b, B, p.edge_distance))
             {

@@ -7,6 +7,7 @@
 
 #include "test_precomp.hpp"
 #include "../src/verification.hpp"
+#include "../src/edge_gradient.hpp"
 
 namespace opencv_test { namespace {
 
@@ -273,6 +274,55 @@ TEST(Forestmod_Verification, drawing_skips_the_inside_of_closed_meshes)
         // skipping the other side draws the far side of the object: farther on the mean
         drawMesh(coarse, -1, K, views[i].R, views[i].t, image, 7, r3, c3, d3, m3);
         EXPECT_GT(mean(d3, m3 & m0)[0], mean(d0, m3 & m0)[0] + 5) << i;
+    }
+}
+
+// The contour check reads Sobel gradients at single pixels: equal to cv::Sobel on the image and
+// on ROIs (whose neighbours outside are read), at every pixel including the image's edges, and to
+// strongestGradient() (the edge refinement's) for colour images.
+TEST(Forestmod_Verification, point_sobel_equals_sobel_on_images_and_rois)
+{
+    using cv::forestmod::detail::PointSobel;
+    RNG rng(11);
+    Mat img(37, 53, CV_8UC3);
+    rng.fill(img, RNG::UNIFORM, 0, 256);
+    Mat grey;
+    cvtColor(img, grey, COLOR_BGR2GRAY);
+    const Rect rois[] = { Rect(0, 0, 53, 37), Rect(5, 3, 20, 17), Rect(0, 10, 9, 27),
+                          Rect(40, 0, 13, 8) };
+    for (const Rect& roi : rois)
+    {
+        for (int k = 0; k < 2; ++k)
+        {
+            const Mat src = (k == 0 ? img : grey)(roi);
+            Mat sx, sy;
+            Sobel(src, sx, CV_32F, 1, 0, 3); // integers: exact in float
+            Sobel(src, sy, CV_32F, 0, 1, 3);
+            const PointSobel ps(src);
+            int wrong = 0;
+            for (int y = 0; y < src.rows; ++y)
+                for (int x = 0; x < src.cols; ++x)
+                    for (int c = 0; c < src.channels(); ++c)
+                    {
+                        int gx, gy;
+                        ps.at(x, y, c, gx, gy);
+                        wrong += (float)gx != sx.ptr<float>(y)[x * src.channels() + c]
+                            || (float)gy != sy.ptr<float>(y)[x * src.channels() + c];
+                    }
+            EXPECT_EQ(wrong, 0) << roi << " channels " << src.channels();
+        }
+        Mat dx, dy;
+        cv::forestmod::detail::strongestGradient(img(roi), dx, dy);
+        const PointSobel ps(img(roi));
+        int wrong = 0;
+        for (int y = 0; y < roi.height; ++y)
+            for (int x = 0; x < roi.width; ++x)
+            {
+                int gx = 0, gy = 0;
+                ps.strongest(x, y, gx, gy);
+                wrong += (float)gx != dx.at<float>(y, x) || (float)gy != dy.at<float>(y, x);
+            }
+        EXPECT_EQ(wrong, 0) << roi;
     }
 }
 
