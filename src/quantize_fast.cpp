@@ -22,6 +22,7 @@
 
 #include "precomp.hpp"
 #include "quantize_fast.hpp"
+#include "quantize_kernels.hpp"
 #include "validator.hpp"
 #include "search_index.hpp"
 
@@ -106,215 +107,6 @@ Mat rectAsImage(const Mat& src, const Rect& r)
 
 // ------------------------------------------------------------------------------------------
 // ColorGradient
-
-// Splits n interleaved BGR pixels into three planes.
-void splitRow3(const uchar* src, int n, uchar* p0, uchar* p1, uchar* p2)
-{
-    int c = 0;
-#if CV_SIMD128
-    for (; c <= n - 16; c += 16)
-    {
-        v_uint8x16 a, b, d;
-        v_load_deinterleave(src + 3 * c, a, b, d);
-        v_store(p0 + c, a);
-        v_store(p1 + c, b);
-        v_store(p2 + c, d);
-    }
-#endif
-    for (; c < n; ++c)
-    {
-        p0[c] = src[3 * c];
-        p1[c] = src[3 * c + 1];
-        p2[c] = src[3 * c + 2];
-    }
-}
-
-#if CV_SIMD128
-// Sobel dx, dy (16 bits) of 16 pixels of one plane; rows above, at, below; [-1] readable.
-static inline void sobel16(const uchar* up, const uchar* mid, const uchar* dn, v_int16x8& dx0,
-                           v_int16x8& dx1, v_int16x8& dy0, v_int16x8& dy1)
-{
-    v_uint16x8 a0, a1, b0, b1, c0, c1;
-    v_expand(v_load(up - 1), a0, a1);
-    v_expand(v_load(up), b0, b1);
-    v_expand(v_load(up + 1), c0, c1);
-    v_int16x8 ul0 = v_reinterpret_as_s16(a0), ul1 = v_reinterpret_as_s16(a1);
-    v_int16x8 ur0 = v_reinterpret_as_s16(c0), ur1 = v_reinterpret_as_s16(c1);
-    v_int16x8 us0 = ul0 + ur0 + v_reinterpret_as_s16(b0 + b0);
-    v_int16x8 us1 = ul1 + ur1 + v_reinterpret_as_s16(b1 + b1);
-    dx0 = ur0 - ul0;
-    dx1 = ur1 - ul1;
-    v_expand(v_load(mid - 1), a0, a1);
-    v_expand(v_load(mid + 1), c0, c1);
-    const v_int16x8 m0 = v_reinterpret_as_s16(c0) - v_reinterpret_as_s16(a0);
-    const v_int16x8 m1 = v_reinterpret_as_s16(c1) - v_reinterpret_as_s16(a1);
-    dx0 += m0 + m0;
-    dx1 += m1 + m1;
-    v_expand(v_load(dn - 1), a0, a1);
-    v_expand(v_load(dn), b0, b1);
-    v_expand(v_load(dn + 1), c0, c1);
-    const v_int16x8 dl0 = v_reinterpret_as_s16(a0), dl1 = v_reinterpret_as_s16(a1);
-    const v_int16x8 dr0 = v_reinterpret_as_s16(c0), dr1 = v_reinterpret_as_s16(c1);
-    dx0 += dr0 - dl0;
-    dx1 += dr1 - dl1;
-    dy0 = (dl0 + dr0 + v_reinterpret_as_s16(b0 + b0)) - us0;
-    dy1 = (dl1 + dr1 + v_reinterpret_as_s16(b1 + b1)) - us1;
-}
-
-// 8 pixels: the channel of largest dx^2 + dy^2 (ties: the first), its dx, dy as float and
-// whether its magnitude passes the threshold (0xFF / 0).
-static inline void select8(const v_int16x8* x, const v_int16x8* y, const v_int32x4& vthr,
-                           float* fx, float* fy, uchar* strong)
-{
-    v_int32x4 ml[3], mh[3];
-    for (int ch = 0; ch < 3; ++ch)
-    {
-        v_int16x8 z0, z1;
-        v_zip(x[ch], y[ch], z0, z1);
-        ml[ch] = v_dotprod(z0, z0);
-        mh[ch] = v_dotprod(z1, z1);
-    }
-    const v_int32x4 s0l = (ml[0] >= ml[1]) & (ml[0] >= ml[2]);
-    const v_int32x4 s0h = (mh[0] >= mh[1]) & (mh[0] >= mh[2]);
-    const v_int32x4 s1l = (ml[1] >= ml[0]) & (ml[1] >= ml[2]);
-    const v_int32x4 s1h = (mh[1] >= mh[0]) & (mh[1] >= mh[2]);
-    const v_int32x4 mlow = v_select(s0l, ml[0], v_select(s1l, ml[1], ml[2]));
-    const v_int32x4 mhigh = v_select(s0h, mh[0], v_select(s1h, mh[1], mh[2]));
-    const v_int16x8 s0 = v_pack(s0l, s0h), s1 = v_pack(s1l, s1h);
-    const v_int16x8 xs = v_select(s0, x[0], v_select(s1, x[1], x[2]));
-    const v_int16x8 ys = v_select(s0, y[0], v_select(s1, y[1], y[2]));
-    v_int32x4 lo, hi;
-    v_expand(xs, lo, hi);
-    v_store(fx, v_cvt_f32(lo));
-    v_store(fx + 4, v_cvt_f32(hi));
-    v_expand(ys, lo, hi);
-    v_store(fy, v_cvt_f32(lo));
-    v_store(fy + 4, v_cvt_f32(hi));
-    v_pack_store(reinterpret_cast<schar*>(strong), v_pack(mlow > vthr, mhigh > vthr));
-}
-#endif
-
-// Per-channel 3x3 Sobel (16 bits) of the three planes (rows above, at, below; one replicated
-// pixel readable on both sides) and the channel of largest magnitude of each pixel.
-void sobelStrongestPlanar(const uchar* const* up, const uchar* const* mid,
-                          const uchar* const* dn, int cols, int ithr, float* fx, float* fy,
-                          uchar* strong)
-{
-    int c = 0;
-#if CV_SIMD128
-    const v_int32x4 vthr = v_setall_s32(ithr);
-    for (; c <= cols - 16; c += 16)
-    {
-        v_int16x8 x0[3], x1[3], y0[3], y1[3];
-        for (int ch = 0; ch < 3; ++ch)
-            sobel16(up[ch] + c, mid[ch] + c, dn[ch] + c, x0[ch], x1[ch], y0[ch], y1[ch]);
-        select8(x0, y0, vthr, fx + c, fy + c, strong + c);
-        select8(x1, y1, vthr, fx + c + 8, fy + c + 8, strong + c + 8);
-    }
-#endif
-    for (; c < cols; ++c)
-    {
-        int best_m = -1, bx = 0, by = 0;
-        for (int ch = 0; ch < 3; ++ch)
-        {
-            const uchar* u = up[ch] + c;
-            const uchar* m = mid[ch] + c;
-            const uchar* d = dn[ch] + c;
-            const int dx = (u[1] - u[-1]) + 2 * (m[1] - m[-1]) + (d[1] - d[-1]);
-            const int dy = (d[-1] + 2 * d[0] + d[1]) - (u[-1] + 2 * u[0] + u[1]);
-            const int mag = dx * dx + dy * dy;
-            if (mag > best_m) // strictly greater: ties keep the first channel
-            {
-                best_m = mag;
-                bx = dx;
-                by = dy;
-            }
-        }
-        fx[c] = (float)bx;
-        fy[c] = (float)by;
-        strong[c] = best_m > ithr ? 255 : 0;
-    }
-}
-
-// One-hot orientation (1 << (round(angle * 16/360) & 7)) of a row of angles in degrees (the
-// caller gives the image's first and last columns bin 0, LINEMOD's border).
-void orientationRow(const float* angle, int cols, uchar* onehot)
-{
-    const float scale = (float)(16.0 / 360.0); // what convertTo(CV_8U, 16.0 / 360.0) uses
-    int c = 0;
-#if CV_SIMD128
-    const v_float32x4 vs = v_setall_f32(scale);
-    const v_uint8x16 seven = v_setall_u8(7);
-    for (; c <= cols - 16; c += 16)
-    {
-        const v_int32x4 i0 = v_round(v_load(angle + c) * vs);
-        const v_int32x4 i1 = v_round(v_load(angle + c + 4) * vs);
-        const v_int32x4 i2 = v_round(v_load(angle + c + 8) * vs);
-        const v_int32x4 i3 = v_round(v_load(angle + c + 12) * vs);
-        const v_uint8x16 bin = v_pack_u(v_pack(i0, i1), v_pack(i2, i3)) & seven;
-        v_uint8x16 oh = v_setzero_u8();
-        for (int k = 0; k < 8; ++k)
-            oh |= (bin == v_setall_u8((uchar)k)) & v_setall_u8((uchar)(1 << k));
-        v_store(onehot + c, oh);
-    }
-#endif
-    for (; c < cols; ++c)
-        onehot[c] = (uchar)(1 << (saturate_cast<uchar>(angle[c] * scale) & 7));
-}
-
-// 1 << bin where at least 5 of the 3x3 one-hot labels around a pixel share the bin, else 0:
-// per bit, a bit-sliced count of the 9 neighbours (full adders on bytes), >= 5 when
-// bit3 | (bit2 & (bit1 | bit0)). At most one bin can reach 5 of 9.
-template <typename V> static inline V majority9(const V& a0, const V& a1, const V& a2,
-                                                 const V& b0, const V& b1, const V& b2,
-                                                 const V& c0, const V& c1, const V& c2)
-{
-    // each row: 2-bit count (s weight 1, k weight 2)
-    const V xa = a0 ^ a1, xb = b0 ^ b1, xc = c0 ^ c1;
-    const V sa = xa ^ a2, ka = (a0 & a1) | (a2 & xa);
-    const V sb = xb ^ b2, kb = (b0 & b1) | (b2 & xb);
-    const V sc = xc ^ c2, kc = (c0 & c1) | (c2 & xc);
-    // sum of the rows
-    const V xs = sa ^ sb, xk = ka ^ kb;
-    const V bit0 = xs ^ sc;
-    const V c1w2 = (sa & sb) | (sc & xs); // weight 2
-    const V s2 = xk ^ kc;                  // weight 2
-    const V c2w4 = (ka & kb) | (kc & xk);  // weight 4
-    const V bit1 = c1w2 ^ s2;
-    const V t = c1w2 & s2; // weight 4
-    const V bit2 = c2w4 ^ t;
-    const V bit3 = c2w4 & t;
-    return bit3 | (bit2 & (bit1 | bit0));
-}
-
-// The vote of n pixels (one-hot rows readable at [-1] and [n]).
-void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar* strong,
-                 const uchar* mask, int n, uchar* dst)
-{
-    int c = 0;
-#if CV_SIMD128
-    const v_uint8x16 z = v_setzero_u8();
-    for (; c <= n - 16; c += 16)
-    {
-        v_uint8x16 v = majority9(v_load(up + c - 1), v_load(up + c), v_load(up + c + 1),
-                                 v_load(mid + c - 1), v_load(mid + c), v_load(mid + c + 1),
-                                 v_load(dn + c - 1), v_load(dn + c), v_load(dn + c + 1));
-        v &= v_load(strong + c);
-        if (mask)
-            v = v_select(v_load(mask + c) == z, z, v);
-        v_store(dst + c, v);
-    }
-#endif
-    for (; c < n; ++c)
-    {
-        uchar v = majority9<uchar>(up[c - 1], up[c], up[c + 1], mid[c - 1], mid[c], mid[c + 1],
-                                   dn[c - 1], dn[c], dn[c + 1]);
-        v &= strong[c];
-        if (mask && !mask[c])
-            v = 0;
-        dst[c] = v;
-    }
-}
 
 // Scratch memory of the calling thread, kept between calls (fresh buffers of a few MB per frame
 // cost more in page faults than the work done in them). slot: one per buffer in use at a time.
@@ -470,45 +262,6 @@ void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold
 
 // ------------------------------------------------------------------------------------------
 // ColorHue
-
-void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, uchar* dst)
-{
-    // hueBin(h) = ((4 h + 45) / 90) & 7 changes at h = 12, 34, 57, 79, 102, 124, 147, 169
-    static const uchar edges[9] = { 0, 12, 34, 57, 79, 102, 124, 147, 169 };
-    int c = 0;
-#if CV_SIMD128
-    const v_uint8x16 vs = v_setall_u8((uchar)std::min(smin, 255));
-    const v_uint8x16 vv = v_setall_u8((uchar)std::min(vmin, 255));
-    const v_uint8x16 z = v_setzero_u8();
-    const v_uint8x16 h180 = v_setall_u8(180);
-    for (; c <= cols - 16; c += 16)
-    {
-        v_uint8x16 h, s, v;
-        v_load_deinterleave(hsv + 3 * c, h, s, v);
-        // bin 0 also covers [169, 180)
-        v_uint8x16 oh = (h >= v_setall_u8(edges[8])) & (h < h180) & v_setall_u8(1);
-        for (int k = 0; k < 8; ++k)
-        {
-            const v_uint8x16 in = (h >= v_setall_u8(edges[k])) & (h < v_setall_u8(edges[k + 1]));
-            oh |= in & v_setall_u8((uchar)(1 << k));
-        }
-        oh &= (s >= vs) & (v >= vv);
-        if (mask)
-            oh = v_select(v_load(mask + c) == z, z, oh);
-        v_store(dst + c, oh);
-    }
-#endif
-    for (; c < cols; ++c)
-    {
-        const uchar* p = hsv + 3 * c;
-        uchar q = 0;
-        if (p[0] < 180 && p[1] >= smin && p[2] >= vmin)
-            q = (uchar)(1 << hueBin(p[0]));
-        if (mask && !mask[c])
-            q = 0;
-        dst[c] = q;
-    }
-}
 
 // Output pixels `out` of one level in blocks of 32 rows: blur (k x k, 0: none) around the
 // rectangle, HSV, bins. Equal there to the whole image's computation (the blur reads k / 2 real
@@ -1310,50 +1063,6 @@ void quantizeAllLevels(const std::vector<Ptr<Modality> >& modalities,
 
 namespace {
 
-// d[c] = OR of s[c .. c + T) for c < cols; s readable (zeros past the image) up to cols + T - 1.
-void orWindowRow(const uchar* s, int cols, int T, uchar* d)
-{
-    int c = 0;
-#if CV_SIMD128
-    for (; c <= cols - 16; c += 16)
-    {
-        v_uint8x16 acc = v_load(s + c);
-        for (int k = 1; k < T; ++k)
-            acc |= v_load(s + c + k);
-        v_store(d + c, acc);
-    }
-#endif
-    for (; c < cols; ++c)
-    {
-        uchar acc = 0;
-        for (int k = 0; k < T; ++k)
-            acc |= s[c + k];
-        d[c] = acc;
-    }
-}
-
-// d[c] = OR of the n >= 1 rows first[k * step + c], c < cols.
-void orRows(const uchar* first, size_t step, int n, int cols, uchar* d)
-{
-    int c = 0;
-#if CV_SIMD128
-    for (; c <= cols - 16; c += 16)
-    {
-        v_uint8x16 acc = v_load(first + c);
-        for (int k = 1; k < n; ++k)
-            acc |= v_load(first + k * step + c);
-        v_store(d + c, acc);
-    }
-#endif
-    for (; c < cols; ++c)
-    {
-        uchar acc = 0;
-        for (int k = 0; k < n; ++k)
-            acc |= first[k * step + c];
-        d[c] = acc;
-    }
-}
-
 // response[o] = 4 - (circular distance from o to the nearest label present), 0 beyond 3: the
 // number of the nested label sets {o}, {o, o+-1}, {o..o+-2}, {o..o+-3} that meet the pixel.
 struct ResponseTables
@@ -1398,26 +1107,7 @@ uchar responseOf(int o, uchar spread)
 void spreadResponses(const uchar* s, int cols, uchar* const* d)
 {
     const ResponseTables& t = responseTables();
-    int c = 0;
-#if CV_SIMD128
-    const v_uint8x16 z = v_setzero_u8(), four = v_setall_u8(4);
-    for (; c <= cols - 16; c += 16)
-    {
-        const v_uint8x16 x = v_load(s + c);
-        for (int o = 0; o < 8; ++o)
-        {
-            // each empty set adds 0xFF (-1)
-            v_uint8x16 v = v_add_wrap(four, (x & v_setall_u8(t.within[o][0])) == z);
-            v = v_add_wrap(v, (x & v_setall_u8(t.within[o][1])) == z);
-            v = v_add_wrap(v, (x & v_setall_u8(t.within[o][2])) == z);
-            v = v_add_wrap(v, (x & v_setall_u8(t.within[o][3])) == z);
-            v_store(d[o] + c, v);
-        }
-    }
-#endif
-    for (; c < cols; ++c)
-        for (int o = 0; o < 8; ++o)
-            d[o][c] = t.lut[o][s[c]];
+    responsesRow(s, cols, &t.within[0][0], &t.lut[0][0], d);
 }
 
 void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad)
@@ -1505,68 +1195,19 @@ void dominantLabelsFast(const Mat& src, int k, Mat& dst)
         src.copyTo(dst);
         return;
     }
-    const int rows = src.rows, cols = src.cols, a = k / 2; // window [x - a, x - a + k)
+    const int rows = src.rows, cols = src.cols, a = k / 2; // window [y - a, y - a + k)
     const int nstripes = stripesFor(rows, cols, 16);
     parallel_for_(Range(0, rows), [&](const Range& range) {
-        // per bit: the column sums of the window's rows, with k - 1 zero columns around
-        const int padded = cols + k + 16;
-        std::vector<uchar> colsum_buf((size_t)padded, 0), best_buf((size_t)cols + 16);
-        uchar* colsum = &colsum_buf[0] + a;
-        uchar* best = &best_buf[0];
+        // per bit: the column sums of the window's rows, with zero columns around
+        std::vector<uchar> colsum_buf((size_t)cols + k + a, 0), best_buf((size_t)cols);
+        std::vector<const uchar*> window(k);
         for (int y = range.start; y < range.end; ++y)
         {
             const int r0 = std::max(0, y - a), r1 = std::min(rows, y - a + k);
-            uchar* d = dst.ptr<uchar>(y);
-            memset(best, 0, cols);
-            memset(d, 0, cols);
-            for (int b = 0; b < 8; ++b)
-            {
-                const uchar bit = (uchar)(1 << b);
-                int x = 0;
-#if CV_SIMD128
-                const v_uint8x16 vbit = v_setall_u8(bit);
-                for (; x <= cols - 16; x += 16)
-                {
-                    v_uint8x16 acc = v_setzero_u8();
-                    for (int r = r0; r < r1; ++r) // a set bit gives 0xFF: subtracting adds 1
-                        acc = v_sub_wrap(acc, (v_load(src.ptr<uchar>(r) + x) & vbit) == vbit);
-                    v_store(colsum + x, acc);
-                }
-#endif
-                for (; x < cols; ++x)
-                {
-                    int acc = 0;
-                    for (int r = r0; r < r1; ++r)
-                        acc += (src.ptr<uchar>(r)[x] & bit) ? 1 : 0;
-                    colsum[x] = (uchar)acc;
-                }
-                // the window's count; a larger count than the bits before takes the pixel
-                const uchar* first = colsum - a;
-                x = 0;
-#if CV_SIMD128
-                for (; x <= cols - 16; x += 16)
-                {
-                    v_uint8x16 cnt = v_load(first + x);
-                    for (int j = 1; j < k; ++j)
-                        cnt += v_load(first + x + j);
-                    const v_uint8x16 bc = v_load(best + x);
-                    const v_uint8x16 gt = cnt > bc;
-                    v_store(best + x, v_select(gt, cnt, bc));
-                    v_store(d + x, v_select(gt, vbit, v_load(d + x)));
-                }
-#endif
-                for (; x < cols; ++x)
-                {
-                    int cnt = 0;
-                    for (int j = 0; j < k; ++j)
-                        cnt += first[x + j];
-                    if (cnt > best[x])
-                    {
-                        best[x] = (uchar)cnt;
-                        d[x] = bit;
-                    }
-                }
-            }
+            for (int r = r0; r < r1; ++r)
+                window[r - r0] = src.ptr<uchar>(r);
+            dominantLabelsRow(&window[0], r1 - r0, cols, k, &colsum_buf[a], &best_buf[0],
+                              dst.ptr<uchar>(y));
         }
     }, nstripes);
 }

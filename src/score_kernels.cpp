@@ -6,6 +6,7 @@
 
 #include "precomp.hpp"
 #include "score_kernels.hpp"
+#include "kernel_dispatch.hpp"
 #define FORESTMOD_KERNELS_NAMESPACE cpu_baseline
 #include "score_kernels.simd.hpp"
 #undef FORESTMOD_KERNELS_NAMESPACE
@@ -21,25 +22,6 @@
 namespace cv {
 namespace forestmod {
 namespace detail {
-
-static inline bool useAVX2()
-{
-#ifdef FORESTMOD_HAVE_AVX2
-    return checkHardwareSupport(CV_CPU_AVX2);
-#else
-    return false;
-#endif
-}
-
-#ifdef FORESTMOD_HAVE_AVX2
-#define FORESTMOD_DISPATCH(call)                                                                  \
-    if (useAVX2())                                                                                \
-        opt_AVX2::call;                                                                           \
-    else                                                                                          \
-        cpu_baseline::call
-#else
-#define FORESTMOD_DISPATCH(call) cpu_baseline::call
-#endif
 
 void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n)
 {

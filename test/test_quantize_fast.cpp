@@ -8,6 +8,7 @@
 
 #include "test_precomp.hpp"
 #include "../src/quantize_fast.hpp"
+#include "../src/quantize_kernels.hpp"
 #include "../src/scene_pyramid.hpp"
 #include "../src/refine.hpp"
 
@@ -219,6 +220,66 @@ TEST(Forestmod_QuantizeFast, random_odd_sizes)
             }
         }
     }
+}
+
+// The row kernels' AVX2 build (when the CPU has it) and the baseline one: each equal to the
+// modalities' own quantization run with the same OpenCV setting, and to each other, on widths
+// around the vector sizes (16 and 32 bytes: the last vector of a row overlaps the one before, a
+// narrower row takes the scalar path); the spreading, responses and label planes likewise.
+TEST(Forestmod_QuantizeFast, instruction_sets_give_the_same_images)
+{
+    using namespace cv::forestmod::detail;
+    const int widths[] = { 8, 15, 16, 17, 31, 32, 33, 47, 50, 65, 97 };
+    const std::vector<Ptr<linemod::Modality> > ms = colourModalities();
+    const bool was_optimized = useOptimized();
+    std::vector<Mat> out[2];
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        setUseOptimized(pass == 0);
+        if (pass == 1)
+        {
+            EXPECT_STREQ("baseline", quantizeKernelsPath());
+        }
+        for (size_t w = 0; w < sizeof(widths) / sizeof(widths[0]); ++w)
+        {
+            const Size size(widths[w], 37 + (int)w);
+            const Mat img = randomScene(size, 300 + w);
+            const Mat mask = someMask(size, 400 + w);
+            std::ostringstream what;
+            what << "pass " << pass << " size " << size;
+            for (size_t i = 0; i < ms.size(); ++i)
+            {
+                expectSameLevels(ms[i], img, mask, 2, what.str(), 0);
+                std::vector<Mat> fast;
+                ASSERT_TRUE(fastQuantize(ms[i], img, Mat(), 2, fast));
+                out[pass].insert(out[pass].end(), fast.begin(), fast.end());
+            }
+            const std::vector<Mat> q = referenceLevels(ms[0], img, Mat(), 1);
+            Mat spread, spread_ref, planes, planes_ref;
+            std::vector<Mat> resp, resp_ref;
+            spreadLabelsFast(q[0], spread, 4, 0);
+            spreadLabelsReference(q[0], spread_ref, 4, 0);
+            EXPECT_EQ(0, differences(spread_ref, spread)) << what.str();
+            computeResponseMapsFast(spread, resp);
+            computeResponseMapsReference(spread, resp_ref);
+            ASSERT_EQ(8u, resp.size());
+            for (int o = 0; o < 8; ++o)
+            {
+                EXPECT_EQ(0, differences(resp_ref[o], resp[o])) << what.str() << " o " << o;
+            }
+            dominantLabelsFast(q[0], 5, planes);
+            dominantLabelsReference(q[0], 5, planes_ref);
+            EXPECT_EQ(0, differences(planes_ref, planes)) << what.str();
+            EXPECT_GT(countNonZero(planes_ref), 0) << what.str();
+            out[pass].push_back(spread);
+            out[pass].push_back(planes);
+        }
+    }
+    setUseOptimized(was_optimized);
+    ASSERT_EQ(out[0].size(), out[1].size());
+    for (size_t k = 0; k < out[0].size(); ++k)
+        EXPECT_EQ(0, differences(out[0][k], out[1][k])) << "image " << k;
+    std::cout << "quantize kernels: " << quantizeKernelsPath() << std::endl;
 }
 
 TEST(Forestmod_QuantizeFast, roi_and_threads)

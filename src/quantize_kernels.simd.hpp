@@ -1,0 +1,461 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The row kernels of quantize_kernels.hpp, compiled once per instruction set as
+// score_kernels.simd.hpp (OpenCV's .simd.hpp scheme): in namespace cpu_baseline by
+// quantize_kernels.cpp, in opt_AVX2 by avx2/quantize_kernels.avx2.cpp. The including file
+// defines FORESTMOD_KERNELS_NAMESPACE, and FORESTMOD_KERNELS_DECLARATIONS_ONLY to declare another
+// build's functions. Width-agnostic universal intrinsics (16 pixels per vector of bytes with
+// SSE2, 32 with AVX2); a row of at least one vector ends with a vector that overlaps the one
+// before it (every kernel writes a function of its inputs only, or, for dominantLabelsRow, an
+// update that a second pass leaves as it is), a shorter row takes the scalar path. Integer
+// arithmetic and exact conversions: every path gives the same bits.
+
+#include "opencv2/core/hal/intrin.hpp"
+
+#include <cmath>
+
+#ifndef FORESTMOD_KERNELS_NAMESPACE
+#error "define FORESTMOD_KERNELS_NAMESPACE (cpu_baseline or opt_AVX2) before including this file"
+#endif
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+namespace FORESTMOD_KERNELS_NAMESPACE {
+
+void splitRow3(const uchar* src, int n, uchar* p0, uchar* p1, uchar* p2);
+void sobelStrongestPlanar(const uchar* const* up, const uchar* const* mid,
+                          const uchar* const* dn, int cols, int ithr, float* fx, float* fy,
+                          uchar* strong);
+void orientationRow(const float* angle, int cols, uchar* onehot);
+void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar* strong,
+                 const uchar* mask, int n, uchar* dst);
+void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, uchar* dst);
+void orWindowRow(const uchar* s, int cols, int T, uchar* d);
+void orRows(const uchar* first, size_t step, int n, int cols, uchar* d);
+void responsesRow(const uchar* s, int cols, const uchar* within, const uchar* lut,
+                  uchar* const* d);
+void dominantLabelsRow(const uchar* const* rows, int nrows, int cols, int k, uchar* colsum,
+                       uchar* best, uchar* d);
+
+#ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
+
+// Calls body(c) for the vectors of a row of n >= w elements: c = 0, w, 2 w, ... and n - w last.
+template <typename Body> static inline void overlappingVectors(int n, int w, const Body& body)
+{
+    for (int c = 0;; c += w)
+    {
+        if (c > n - w)
+            c = n - w;
+        body(c);
+        if (c == n - w)
+            break;
+    }
+}
+
+void splitRow3(const uchar* src, int n, uchar* p0, uchar* p1, uchar* p2)
+{
+#if CV_SIMD
+    if (n >= v_uint8::nlanes)
+    {
+        overlappingVectors(n, v_uint8::nlanes, [&](int c) {
+            v_uint8 a, b, d;
+            v_load_deinterleave(src + 3 * c, a, b, d);
+            v_store(p0 + c, a);
+            v_store(p1 + c, b);
+            v_store(p2 + c, d);
+        });
+        return;
+    }
+#endif
+    for (int c = 0; c < n; ++c)
+    {
+        p0[c] = src[3 * c];
+        p1[c] = src[3 * c + 1];
+        p2[c] = src[3 * c + 2];
+    }
+}
+
+#if CV_SIMD
+// Sobel dx, dy (16 bits) of one vector of bytes of one plane, as two halves; rows above, at,
+// below; [-1] readable.
+static inline void sobelVector(const uchar* up, const uchar* mid, const uchar* dn, v_int16& dx0,
+                               v_int16& dx1, v_int16& dy0, v_int16& dy1)
+{
+    v_uint16 a0, a1, b0, b1, c0, c1;
+    v_expand(vx_load(up - 1), a0, a1);
+    v_expand(vx_load(up), b0, b1);
+    v_expand(vx_load(up + 1), c0, c1);
+    const v_int16 ul0 = v_reinterpret_as_s16(a0), ul1 = v_reinterpret_as_s16(a1);
+    const v_int16 ur0 = v_reinterpret_as_s16(c0), ur1 = v_reinterpret_as_s16(c1);
+    const v_int16 us0 = ul0 + ur0 + v_reinterpret_as_s16(b0 + b0);
+    const v_int16 us1 = ul1 + ur1 + v_reinterpret_as_s16(b1 + b1);
+    dx0 = ur0 - ul0;
+    dx1 = ur1 - ul1;
+    v_expand(vx_load(mid - 1), a0, a1);
+    v_expand(vx_load(mid + 1), c0, c1);
+    const v_int16 m0 = v_reinterpret_as_s16(c0) - v_reinterpret_as_s16(a0);
+    const v_int16 m1 = v_reinterpret_as_s16(c1) - v_reinterpret_as_s16(a1);
+    dx0 += m0 + m0;
+    dx1 += m1 + m1;
+    v_expand(vx_load(dn - 1), a0, a1);
+    v_expand(vx_load(dn), b0, b1);
+    v_expand(vx_load(dn + 1), c0, c1);
+    const v_int16 dl0 = v_reinterpret_as_s16(a0), dl1 = v_reinterpret_as_s16(a1);
+    const v_int16 dr0 = v_reinterpret_as_s16(c0), dr1 = v_reinterpret_as_s16(c1);
+    dx0 += dr0 - dl0;
+    dx1 += dr1 - dl1;
+    dy0 = (dl0 + dr0 + v_reinterpret_as_s16(b0 + b0)) - us0;
+    dy1 = (dl1 + dr1 + v_reinterpret_as_s16(b1 + b1)) - us1;
+}
+
+// One vector of 16-bit pixels: the channel of largest dx^2 + dy^2 (ties: the first), its dx, dy
+// as float and whether its magnitude passes the threshold (0xFF / 0).
+static inline void selectStrongest(const v_int16* x, const v_int16* y, const v_int32& vthr,
+                                   float* fx, float* fy, uchar* strong)
+{
+    v_int32 ml[3], mh[3];
+    for (int ch = 0; ch < 3; ++ch)
+    {
+        v_int16 z0, z1;
+        v_zip(x[ch], y[ch], z0, z1);
+        ml[ch] = v_dotprod(z0, z0);
+        mh[ch] = v_dotprod(z1, z1);
+    }
+    const v_int32 s0l = (ml[0] >= ml[1]) & (ml[0] >= ml[2]);
+    const v_int32 s0h = (mh[0] >= mh[1]) & (mh[0] >= mh[2]);
+    const v_int32 s1l = (ml[1] >= ml[0]) & (ml[1] >= ml[2]);
+    const v_int32 s1h = (mh[1] >= mh[0]) & (mh[1] >= mh[2]);
+    const v_int32 mlow = v_select(s0l, ml[0], v_select(s1l, ml[1], ml[2]));
+    const v_int32 mhigh = v_select(s0h, mh[0], v_select(s1h, mh[1], mh[2]));
+    const v_int16 s0 = v_pack(s0l, s0h), s1 = v_pack(s1l, s1h);
+    const v_int16 xs = v_select(s0, x[0], v_select(s1, x[1], x[2]));
+    const v_int16 ys = v_select(s0, y[0], v_select(s1, y[1], y[2]));
+    const int h = v_float32::nlanes;
+    v_int32 lo, hi;
+    v_expand(xs, lo, hi);
+    v_store(fx, v_cvt_f32(lo));
+    v_store(fx + h, v_cvt_f32(hi));
+    v_expand(ys, lo, hi);
+    v_store(fy, v_cvt_f32(lo));
+    v_store(fy + h, v_cvt_f32(hi));
+    v_pack_store(reinterpret_cast<schar*>(strong), v_pack(mlow > vthr, mhigh > vthr));
+}
+#endif
+
+void sobelStrongestPlanar(const uchar* const* up, const uchar* const* mid,
+                          const uchar* const* dn, int cols, int ithr, float* fx, float* fy,
+                          uchar* strong)
+{
+#if CV_SIMD
+    const int w = v_uint8::nlanes;
+    if (cols >= w)
+    {
+        const v_int32 vthr = vx_setall_s32(ithr);
+        overlappingVectors(cols, w, [&](int c) {
+            v_int16 x0[3], x1[3], y0[3], y1[3];
+            for (int ch = 0; ch < 3; ++ch)
+                sobelVector(up[ch] + c, mid[ch] + c, dn[ch] + c, x0[ch], x1[ch], y0[ch], y1[ch]);
+            selectStrongest(x0, y0, vthr, fx + c, fy + c, strong + c);
+            selectStrongest(x1, y1, vthr, fx + c + w / 2, fy + c + w / 2, strong + c + w / 2);
+        });
+        return;
+    }
+#endif
+    for (int c = 0; c < cols; ++c)
+    {
+        int best_m = -1, bx = 0, by = 0;
+        for (int ch = 0; ch < 3; ++ch)
+        {
+            const uchar* u = up[ch] + c;
+            const uchar* m = mid[ch] + c;
+            const uchar* d = dn[ch] + c;
+            const int dx = (u[1] - u[-1]) + 2 * (m[1] - m[-1]) + (d[1] - d[-1]);
+            const int dy = (d[-1] + 2 * d[0] + d[1]) - (u[-1] + 2 * u[0] + u[1]);
+            const int mag = dx * dx + dy * dy;
+            if (mag > best_m) // strictly greater: ties keep the first channel
+            {
+                best_m = mag;
+                bx = dx;
+                by = dy;
+            }
+        }
+        fx[c] = (float)bx;
+        fy[c] = (float)by;
+        strong[c] = best_m > ithr ? 255 : 0;
+    }
+}
+
+void orientationRow(const float* angle, int cols, uchar* onehot)
+{
+    const float scale = (float)(16.0 / 360.0); // what convertTo(CV_8U, 16.0 / 360.0) uses
+#if CV_SIMD
+    const int w = v_uint8::nlanes, q = v_float32::nlanes;
+    if (cols >= w)
+    {
+        const v_float32 vs = vx_setall_f32(scale);
+        const v_uint8 seven = vx_setall_u8(7);
+        overlappingVectors(cols, w, [&](int c) {
+            const v_int32 i0 = v_round(vx_load(angle + c) * vs);
+            const v_int32 i1 = v_round(vx_load(angle + c + q) * vs);
+            const v_int32 i2 = v_round(vx_load(angle + c + 2 * q) * vs);
+            const v_int32 i3 = v_round(vx_load(angle + c + 3 * q) * vs);
+            const v_uint8 bin = v_pack_u(v_pack(i0, i1), v_pack(i2, i3)) & seven;
+            v_uint8 oh = vx_setzero_u8();
+            for (int k = 0; k < 8; ++k)
+                oh |= (bin == vx_setall_u8((uchar)k)) & vx_setall_u8((uchar)(1 << k));
+            v_store(onehot + c, oh);
+        });
+        return;
+    }
+#endif
+    for (int c = 0; c < cols; ++c)
+    {
+        // saturate_cast<uchar>: rounded to nearest even (as cvRound), then clamped; no inline
+        // function of OpenCV's headers here (see score_kernels.simd.hpp)
+        const float r = std::nearbyint(angle[c] * scale);
+        const int bin = r < 0.f ? 0 : (r > 255.f ? 255 : (int)r);
+        onehot[c] = (uchar)(1 << (bin & 7));
+    }
+}
+
+// 1 << bin where at least 5 of the 3x3 one-hot labels around a pixel share the bin, else 0:
+// per bit, a bit-sliced count of the 9 neighbours (full adders on bytes), >= 5 when
+// bit3 | (bit2 & (bit1 | bit0)). At most one bin can reach 5 of 9.
+template <typename V> static inline V majority9(const V& a0, const V& a1, const V& a2,
+                                                 const V& b0, const V& b1, const V& b2,
+                                                 const V& c0, const V& c1, const V& c2)
+{
+    // each row: 2-bit count (s weight 1, k weight 2)
+    const V xa = a0 ^ a1, xb = b0 ^ b1, xc = c0 ^ c1;
+    const V sa = xa ^ a2, ka = (a0 & a1) | (a2 & xa);
+    const V sb = xb ^ b2, kb = (b0 & b1) | (b2 & xb);
+    const V sc = xc ^ c2, kc = (c0 & c1) | (c2 & xc);
+    // sum of the rows
+    const V xs = sa ^ sb, xk = ka ^ kb;
+    const V bit0 = xs ^ sc;
+    const V c1w2 = (sa & sb) | (sc & xs); // weight 2
+    const V s2 = xk ^ kc;                  // weight 2
+    const V c2w4 = (ka & kb) | (kc & xk);  // weight 4
+    const V bit1 = c1w2 ^ s2;
+    const V t = c1w2 & s2; // weight 4
+    const V bit2 = c2w4 ^ t;
+    const V bit3 = c2w4 & t;
+    return bit3 | (bit2 & (bit1 | bit0));
+}
+
+void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar* strong,
+                 const uchar* mask, int n, uchar* dst)
+{
+#if CV_SIMD
+    if (n >= v_uint8::nlanes)
+    {
+        const v_uint8 z = vx_setzero_u8();
+        overlappingVectors(n, v_uint8::nlanes, [&](int c) {
+            v_uint8 v = majority9(vx_load(up + c - 1), vx_load(up + c), vx_load(up + c + 1),
+                                  vx_load(mid + c - 1), vx_load(mid + c), vx_load(mid + c + 1),
+                                  vx_load(dn + c - 1), vx_load(dn + c), vx_load(dn + c + 1));
+            v &= vx_load(strong + c);
+            if (mask)
+                v = v_select(vx_load(mask + c) == z, z, v);
+            v_store(dst + c, v);
+        });
+        return;
+    }
+#endif
+    for (int c = 0; c < n; ++c)
+    {
+        uchar v = majority9<uchar>(up[c - 1], up[c], up[c + 1], mid[c - 1], mid[c], mid[c + 1],
+                                   dn[c - 1], dn[c], dn[c + 1]);
+        v &= strong[c];
+        if (mask && !mask[c])
+            v = 0;
+        dst[c] = v;
+    }
+}
+
+void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, uchar* dst)
+{
+    // hueBin(h) = ((4 h + 45) / 90) & 7 changes at h = 12, 34, 57, 79, 102, 124, 147, 169; bin 0
+    // also covers [169, 180)
+    static const uchar edges[9] = { 0, 12, 34, 57, 79, 102, 124, 147, 169 };
+#if CV_SIMD
+    if (cols >= v_uint8::nlanes)
+    {
+        const v_uint8 vs = vx_setall_u8((uchar)(smin < 255 ? smin : 255));
+        const v_uint8 vv = vx_setall_u8((uchar)(vmin < 255 ? vmin : 255));
+        const v_uint8 z = vx_setzero_u8();
+        const v_uint8 h180 = vx_setall_u8(180);
+        overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
+            v_uint8 h, s, v;
+            v_load_deinterleave(hsv + 3 * c, h, s, v);
+            v_uint8 oh = (h >= vx_setall_u8(edges[8])) & (h < h180) & vx_setall_u8(1);
+            for (int k = 0; k < 8; ++k)
+            {
+                const v_uint8 in = (h >= vx_setall_u8(edges[k])) & (h < vx_setall_u8(edges[k + 1]));
+                oh |= in & vx_setall_u8((uchar)(1 << k));
+            }
+            oh &= (s >= vs) & (v >= vv);
+            if (mask)
+                oh = v_select(vx_load(mask + c) == z, z, oh);
+            v_store(dst + c, oh);
+        });
+        return;
+    }
+#endif
+    for (int c = 0; c < cols; ++c)
+    {
+        const uchar* p = hsv + 3 * c;
+        uchar q = 0;
+        if (p[0] < 180 && p[1] >= smin && p[2] >= vmin)
+        {
+            int bin = 0;
+            for (int k = 1; k < 8; ++k)
+                if (p[0] >= edges[k] && p[0] < edges[k + 1])
+                    bin = k;
+            q = (uchar)(1 << bin);
+        }
+        if (mask && !mask[c])
+            q = 0;
+        dst[c] = q;
+    }
+}
+
+void orWindowRow(const uchar* s, int cols, int T, uchar* d)
+{
+#if CV_SIMD
+    if (cols >= v_uint8::nlanes)
+    {
+        overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
+            v_uint8 acc = vx_load(s + c);
+            for (int k = 1; k < T; ++k)
+                acc |= vx_load(s + c + k);
+            v_store(d + c, acc);
+        });
+        return;
+    }
+#endif
+    for (int c = 0; c < cols; ++c)
+    {
+        uchar acc = 0;
+        for (int k = 0; k < T; ++k)
+            acc |= s[c + k];
+        d[c] = acc;
+    }
+}
+
+void orRows(const uchar* first, size_t step, int n, int cols, uchar* d)
+{
+#if CV_SIMD
+    if (cols >= v_uint8::nlanes)
+    {
+        overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
+            v_uint8 acc = vx_load(first + c);
+            for (int k = 1; k < n; ++k)
+                acc |= vx_load(first + k * step + c);
+            v_store(d + c, acc);
+        });
+        return;
+    }
+#endif
+    for (int c = 0; c < cols; ++c)
+    {
+        uchar acc = 0;
+        for (int k = 0; k < n; ++k)
+            acc |= first[k * step + c];
+        d[c] = acc;
+    }
+}
+
+void responsesRow(const uchar* s, int cols, const uchar* within, const uchar* lut,
+                  uchar* const* d)
+{
+#if CV_SIMD
+    if (cols >= v_uint8::nlanes)
+    {
+        const v_uint8 z = vx_setzero_u8(), four = vx_setall_u8(4);
+        overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
+            const v_uint8 x = vx_load(s + c);
+            for (int o = 0; o < 8; ++o)
+            {
+                // each empty set adds 0xFF (-1)
+                const uchar* wo = within + 4 * o;
+                v_uint8 v = v_add_wrap(four, (x & vx_setall_u8(wo[0])) == z);
+                v = v_add_wrap(v, (x & vx_setall_u8(wo[1])) == z);
+                v = v_add_wrap(v, (x & vx_setall_u8(wo[2])) == z);
+                v = v_add_wrap(v, (x & vx_setall_u8(wo[3])) == z);
+                v_store(d[o] + c, v);
+            }
+        });
+        return;
+    }
+#endif
+    for (int c = 0; c < cols; ++c)
+        for (int o = 0; o < 8; ++o)
+            d[o][c] = lut[256 * o + s[c]];
+}
+
+void dominantLabelsRow(const uchar* const* rows, int nrows, int cols, int k, uchar* colsum,
+                       uchar* best, uchar* d)
+{
+    const int a = k / 2;
+    const uchar* first = colsum - a; // the window of x: colsum[x - a, x - a + k)
+    for (int c = 0; c < cols; ++c)
+        best[c] = d[c] = 0;
+    for (int b = 0; b < 8; ++b)
+    {
+        const uchar bit = (uchar)(1 << b);
+#if CV_SIMD
+        if (cols >= v_uint8::nlanes)
+        {
+            const v_uint8 vbit = vx_setall_u8(bit);
+            // per column: how many of the window's rows have the bit (a set bit gives 0xFF:
+            // subtracting adds 1)
+            overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
+                v_uint8 acc = vx_setzero_u8();
+                for (int r = 0; r < nrows; ++r)
+                    acc = v_sub_wrap(acc, (vx_load(rows[r] + c) & vbit) == vbit);
+                v_store(colsum + c, acc);
+            });
+            // the window's count; a larger count than the bits before takes the pixel
+            overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
+                v_uint8 cnt = vx_load(first + c);
+                for (int j = 1; j < k; ++j)
+                    cnt += vx_load(first + c + j);
+                const v_uint8 bc = vx_load(best + c);
+                const v_uint8 gt = cnt > bc;
+                v_store(best + c, v_select(gt, cnt, bc));
+                v_store(d + c, v_select(gt, vbit, vx_load(d + c)));
+            });
+            continue;
+        }
+#endif
+        for (int c = 0; c < cols; ++c)
+        {
+            int acc = 0;
+            for (int r = 0; r < nrows; ++r)
+                acc += (rows[r][c] & bit) ? 1 : 0;
+            colsum[c] = (uchar)acc;
+        }
+        for (int c = 0; c < cols; ++c)
+        {
+            int cnt = 0;
+            for (int j = 0; j < k; ++j)
+                cnt += first[c + j];
+            if (cnt > best[c])
+            {
+                best[c] = (uchar)cnt;
+                d[c] = bit;
+            }
+        }
+    }
+}
+
+#endif // FORESTMOD_KERNELS_DECLARATIONS_ONLY
+
+} // namespace FORESTMOD_KERNELS_NAMESPACE
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
