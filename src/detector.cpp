@@ -302,7 +302,7 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
     // 4. the finer levels' maps where the coarse matches will be refined (timed with the scene
     // pyramid), then the pyramid refinement (with the depth samples when the forest is used)
     std::vector<std::vector<Rect> > regions;
-    detail::refinementRegions(scene, d.pyramids, matches, regions);
+    detail::refinementRegions(scene, d.pyramids, d.impl.store, matches, regions);
     detail::prepareRefinementLevels(scene, regions);
     t_quant += clock.lap();
     detail::refineMatches(scene, d.pyramids, d.impl.store, threshold, matches);

@@ -84,25 +84,6 @@ static bool refineOne(const std::vector<LevelMaps>& levels, const TemplatePyrami
 }
 
 // A template's feature offsets at one level: smallest and largest x (in .x, .y of lo / hi).
-static void featureExtent(const TemplatePyramid& tp, int l, int M, Point& lo, Point& hi)
-{
-    lo = Point(INT_MAX, INT_MAX);
-    hi = Point(INT_MIN, INT_MIN);
-    for (int m = 0; m < M; ++m)
-    {
-        const std::vector<cv::linemod::Feature>& fs = tp[l * M + m].features;
-        for (size_t k = 0; k < fs.size(); ++k)
-        {
-            lo.x = std::min(lo.x, fs[k].x);
-            lo.y = std::min(lo.y, fs[k].y);
-            hi.x = std::max(hi.x, fs[k].x);
-            hi.y = std::max(hi.y, fs[k].y);
-        }
-    }
-    if (lo.x > hi.x)
-        lo = hi = Point(0, 0);
-}
-
 // One coordinate of one level of refineOne, for every coarser-level coordinate in [lo, hi]:
 // the first and last pixel bestPosition reads (features at [f_lo, f_hi] from each of the 16
 // positions), and the range of the coordinate it returns (one cell before the first position
@@ -121,6 +102,7 @@ static void refineSpan(int lo, int hi, int border, int max_v, int T, int f_lo, i
 }
 
 void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                       const TemplateStore& store,
                        const std::vector<cv::linemod::Match>& matches,
                        std::vector<std::vector<Rect> >& regions)
 {
@@ -129,32 +111,23 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
     regions.assign(L, std::vector<Rect>());
     for (int l = 0; l < L; ++l)
         regions[l].reserve(matches.size());
-    // the feature extents of each template, once: [2 L i, 2 L (i + 1)) of `extents`, lo and hi
-    // per level (the coarse matches of one template are many)
-    std::unordered_map<const TemplatePyramid*, size_t> seen;
-    std::vector<Point> extents;
     const std::string* last_class = 0;
     const std::vector<TemplatePyramid>* class_templates = 0;
+    const std::vector<TemplateRecord>* class_records = 0;
     for (size_t k = 0; k < matches.size(); ++k)
     {
         const cv::linemod::Match& m = matches[k];
         if (!last_class || *last_class != m.class_id)
         {
             class_templates = &pyramids.find(m.class_id)->second;
+            class_records = store.classRecords(m.class_id);
+            CV_Assert(class_records && class_records->size() == class_templates->size());
             last_class = &m.class_id;
         }
         const TemplatePyramid& tp = (*class_templates)[m.template_id];
-        std::unordered_map<const TemplatePyramid*, size_t>::const_iterator it = seen.find(&tp);
-        if (it == seen.end())
-        {
-            it = seen.insert(std::make_pair(&tp, extents.size())).first;
-            extents.resize(extents.size() + 2 * L);
-            for (int l = 0; l < L; ++l)
-                featureExtent(tp, l, M, extents[it->second + 2 * l],
-                              extents[it->second + 2 * l + 1]);
-        }
-        const Point* f_lo = &extents[it->second];
-        const Point* f_hi = f_lo + 1;
+        // the feature extents of each level: lo at [2 l], hi at [2 l + 1]
+        const std::vector<Point>& ext = (*class_records)[m.template_id].feature_extent;
+        CV_Assert((int)ext.size() >= 2 * L);
         int x_lo = m.x, x_hi = m.x, y_lo = m.y, y_hi = m.y;
         for (int l = L - 1; l >= 0; --l)
         {
@@ -162,9 +135,9 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
             const int border = 8 * lm.T;
             int x0, x1, y0, y1;
             refineSpan(x_lo, x_hi, border, lm.size.width - tp[l * M].width - border, lm.T,
-                       f_lo[2 * l].x, f_hi[2 * l].x, x0, x1, x_lo, x_hi);
+                       ext[2 * l].x, ext[2 * l + 1].x, x0, x1, x_lo, x_hi);
             refineSpan(y_lo, y_hi, border, lm.size.height - tp[l * M].height - border, lm.T,
-                       f_lo[2 * l].y, f_hi[2 * l].y, y0, y1, y_lo, y_hi);
+                       ext[2 * l].y, ext[2 * l + 1].y, y0, y1, y_lo, y_hi);
             regions[l].push_back(Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1));
         }
     }

@@ -28,8 +28,10 @@ CV_EXPORTS void refineMatches(const ScenePyramid& scene, const ClassPyramids& py
 
 /** Where refineMatches() reads the levels below the coarsest for these coarse matches: per
 level, one rectangle (level pixels) per match that holds every pixel its refinement may read,
-whatever positions the coarser levels give it (what prepareRefinementLevels() computes). */
+whatever positions the coarser levels give it (what prepareRefinementLevels() computes). The
+features' extents come from the store's records (TemplateRecord::feature_extent). */
 CV_EXPORTS void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                                  const TemplateStore& store,
                                   const std::vector<cv::linemod::Match>& matches,
                                   std::vector<std::vector<Rect> >& regions);
 

@@ -13,6 +13,37 @@ namespace detail {
 
 using linemod::Template;
 
+// The smallest and largest feature coordinates per pyramid level (TemplateRecord).
+static std::vector<Point> featureExtents(const TemplatePyramid& tp)
+{
+    int levels = 0;
+    for (size_t i = 0; i < tp.size(); ++i)
+        levels = std::max(levels, tp[i].pyramid_level + 1);
+    std::vector<Point> ext(2 * levels);
+    for (int l = 0; l < levels; ++l)
+    {
+        Point lo(INT_MAX, INT_MAX), hi(INT_MIN, INT_MIN);
+        for (size_t i = 0; i < tp.size(); ++i)
+        {
+            if (tp[i].pyramid_level != l)
+                continue;
+            const std::vector<cv::linemod::Feature>& fs = tp[i].features;
+            for (size_t k = 0; k < fs.size(); ++k)
+            {
+                lo.x = std::min(lo.x, fs[k].x);
+                lo.y = std::min(lo.y, fs[k].y);
+                hi.x = std::max(hi.x, fs[k].x);
+                hi.y = std::max(hi.y, fs[k].y);
+            }
+        }
+        if (lo.x > hi.x)
+            lo = hi = Point(0, 0);
+        ext[2 * l] = lo;
+        ext[2 * l + 1] = hi;
+    }
+    return ext;
+}
+
 int TemplateStore::add(ClassPyramids& pyramids, const String& class_id, const TemplatePyramid& tp,
                        const TemplateRecord& record)
 {
@@ -21,6 +52,7 @@ int TemplateStore::add(ClassPyramids& pyramids, const String& class_id, const Te
     CV_Assert(tps.size() == recs.size());
     tps.push_back(tp);
     recs.push_back(record);
+    recs.back().feature_extent = featureExtents(tp);
     return static_cast<int>(tps.size()) - 1;
 }
 
@@ -30,7 +62,16 @@ void TemplateStore::setClass(ClassPyramids& pyramids, const String& class_id,
 {
     CV_Assert(tps.size() == records.size());
     pyramids[class_id] = tps;
-    records_[class_id] = records;
+    std::vector<TemplateRecord>& recs = records_[class_id];
+    recs = records;
+    for (size_t k = 0; k < tps.size(); ++k)
+        recs[k].feature_extent = featureExtents(tps[k]);
+}
+
+const std::vector<TemplateRecord>* TemplateStore::classRecords(const String& class_id) const
+{
+    std::map<String, std::vector<TemplateRecord> >::const_iterator it = records_.find(class_id);
+    return it == records_.end() ? 0 : &it->second;
 }
 
 const TemplateRecord* TemplateStore::find(const String& class_id, int template_id) const

@@ -36,9 +36,13 @@ struct TemplateRecord
     TemplatePose pose;            //!< pose label (valid false without one); box: level-0 box
     DensePatch patch;
     std::vector<Point3i> depth;   //!< depth samples: x, y relative to the box's top-left, z mm
+    /** Per pyramid level l, the smallest and largest feature coordinates of every modality
+    ([2 l], [2 l + 1]; (0, 0) twice for a level without features): set by TemplateStore from
+    the pyramid (what refinementRegions() reads for every coarse match). */
+    std::vector<Point> feature_extent;
 };
 
-class TemplateStore
+class CV_EXPORTS TemplateStore // exported for the tests
 {
 public:
     /** Appends a template: its pyramid to `pyramids` (the base class's map) and its record here.
@@ -49,6 +53,8 @@ public:
     void setClass(ClassPyramids& pyramids, const String& class_id,
                   const std::vector<TemplatePyramid>& tps,
                   const std::vector<TemplateRecord>& records);
+    /** The records of a class, in template order, or null. */
+    const std::vector<TemplateRecord>* classRecords(const String& class_id) const;
     /** The record of a template, or null. */
     const TemplateRecord* find(const String& class_id, int template_id) const;
     /** The record of a template; StsBadArg naming it when there is none. */

@@ -827,8 +827,12 @@ static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, 
             x = k % 2 ? rng.uniform(-4, 8) : top.width - rng.uniform(-4, 8);
         coarse.push_back(linemod::Match(x, y, 90.f, "obj", id));
     }
+    // the store's records hold the features' extents that refinementRegions reads
+    TemplateStore store;
+    const std::vector<TemplatePyramid> tps = pyramids["obj"];
+    store.setClass(pyramids, "obj", tps, std::vector<TemplateRecord>(tps.size()));
     std::vector<std::vector<Rect> > regions;
-    refinementRegions(on_demand, pyramids, coarse, regions);
+    refinementRegions(on_demand, pyramids, store, coarse, regions);
     ASSERT_EQ((size_t)L, regions.size());
     ASSERT_EQ(coarse.size(), regions[0].size());
     prepareRefinementLevels(on_demand, regions);
@@ -861,7 +865,6 @@ static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, 
                         << "level " << l << " modality " << m << " tile " << tile;
             }
 
-    TemplateStore store; // no depth samples: refinement does not read it
     for (int pass = 0; pass < 2; ++pass)
     {
         const float thr = pass == 0 ? 0.f : 60.f;
