@@ -627,86 +627,23 @@ static void normalRows(const Mat& depth, const ModalityInfo& info, const NormalL
         memset(out, 0, x0);
         memset(out + x1, 0, cols - x1);
         const ushort* row = depth.ptr<ushort>(y);
+        // the cells of a vector's worth of pixels at a time (quantize_kernels), then the table
         int x = x0;
-#if CV_SIMD128
-        // 8 pixels at a time in 16 bits (differences that count are below 240, counts and sums
-        // stay below 2^15), products in 32 bits, the normal in float as cv::linemod
-        const v_uint16x8 vdiff = v_setall_u16((ushort)diff);
-        const v_uint16x8 vdist = v_setall_u16((ushort)std::min(dist, 65535));
-        const bool all_near = dist > 65535;
-        const v_int16x8 z16 = v_setzero_s16();
-        const v_int32x4 z = v_setzero_s32();
-        const v_float32x4 half = v_setall_f32((float)(NORMAL_G / 2));
-        const v_float32x4 g = v_setall_f32((float)NORMAL_G), fone = v_setall_f32(1.f);
-        const v_float32x4 fz = v_setzero_f32();
-        const v_int32x4 cells = v_setall_s32(NORMAL_CELLS), k1150 = v_setall_s32(1150);
-        const ptrdiff_t up = -(ptrdiff_t)(R * step), dn = (ptrdiff_t)(R * step);
-        const ptrdiff_t offs[8] = { up - R, up, up + R, -R, R, dn - R, dn, dn + R };
-        for (; x <= x1 - 8; x += 8)
+        int ids[256];
+        while (x < x1)
         {
-            const ushort* p = row + x;
-            const v_uint16x8 d = v_load(p);
-            // the 8 neighbours: f (0 / -1) where |depth difference| < threshold, fd = f delta
-            v_int16x8 f[8], fd[8];
-            for (int k = 0; k < 8; ++k)
-            {
-                const v_uint16x8 nb = v_load(p + offs[k]);
-                const v_uint16x8 pos = nb - d, neg = d - nb; // saturating
-                f[k] = v_reinterpret_as_s16((pos | neg) < vdiff);
-                fd[k] = f[k] & v_sub_wrap(v_reinterpret_as_s16(pos), v_reinterpret_as_s16(neg));
-            }
-            // neighbours: 0 (-R,-R) 1 (0,-R) 2 (R,-R) 3 (-R,0) 4 (R,0) 5 (-R,R) 6 (0,R) 7 (R,R)
-            const v_int16x8 nx_count = z16 - (f[0] + f[3] + f[5] + f[2] + f[4] + f[7]);
-            const v_int16x8 ny_count = z16 - (f[0] + f[1] + f[2] + f[5] + f[6] + f[7]);
-            const v_int16x8 A0 = v_mul_wrap(v_setall_s16(R * R), nx_count);
-            const v_int16x8 A3 = v_mul_wrap(v_setall_s16(R * R), ny_count);
-            const v_int16x8 A1 = v_mul_wrap(v_setall_s16(R * R), (f[2] + f[5]) - (f[0] + f[7]));
-            const v_int16x8 b0
-                = v_mul_wrap(v_setall_s16(R), (fd[2] + fd[4] + fd[7]) - (fd[0] + fd[3] + fd[5]));
-            const v_int16x8 b1
-                = v_mul_wrap(v_setall_s16(R), (fd[5] + fd[6] + fd[7]) - (fd[0] + fd[1] + fd[2]));
-            const v_int16x8 det = v_sub_wrap(v_mul_wrap(A0, A3), v_mul_wrap(A1, A1)); // <= 22500
-            v_int32x4 p0, p1, q0, q1;
-            v_mul_expand(A3, b0, p0, p1);
-            v_mul_expand(A1, b1, q0, q1);
-            const v_int32x4 ddx0 = p0 - q0, ddx1 = p1 - q1;
-            v_mul_expand(A0, b1, p0, p1);
-            v_mul_expand(A1, b0, q0, q1);
-            const v_int32x4 ddy0 = p0 - q0, ddy1 = p1 - q1;
-            v_uint32x4 dd0, dd1; // det * d < 22500 * 65536
-            v_mul_expand(v_reinterpret_as_u16(det), d, dd0, dd1);
-            v_uint16x8 valid16 = all_near ? v_setall_u16(0xffff) : (d < vdist);
-            v_int32x4 valid0, valid1; // sign-extended: all ones stay all ones
-            v_expand(v_reinterpret_as_s16(valid16), valid0, valid1);
-            int ids[8];
-            for (int h = 0; h < 2; ++h)
-            {
-                v_float32x4 nx = v_cvt_f32(k1150 * (h ? ddx1 : ddx0));
-                v_float32x4 ny = v_cvt_f32(k1150 * (h ? ddy1 : ddy0));
-                v_float32x4 nzv = v_cvt_f32(z - v_reinterpret_as_s32(h ? dd1 : dd0));
-                const v_float32x4 norm = v_sqrt(nx * nx + ny * ny + nzv * nzv);
-                const v_float32x4 ok
-                    = (norm > fz) & v_reinterpret_as_f32(h ? valid1 : valid0);
-                const v_float32x4 inv = fone / v_select(ok, norm, fone);
-                nx = nx * inv;
-                ny = ny * inv;
-                nzv = nzv * inv;
-                const v_int32x4 i1 = v_trunc(nx * half + half);
-                const v_int32x4 i2 = v_trunc(ny * half + half);
-                const v_int32x4 i3 = v_trunc(nzv * g + g);
-                v_int32x4 idx = (i3 * cells + i2) * cells + i1;
-                idx = v_select(v_reinterpret_as_s32(ok), idx, v_setall_s32(-1));
-                v_store(ids + 4 * h, idx);
-            }
-            for (int k = 0; k < 8; ++k)
+            const int done = normalCellsRow(row + x, step, std::min(x1 - x, 256), dist, diff, ids);
+            if (done == 0)
+                break;
+            for (int k = 0; k < done; ++k)
             {
                 uchar v = 0;
                 if (ids[k] >= 0 && !t.lookup(ids[k], v))
                     unknown.push_back(Point(x + k, y));
                 out[x + k] = v;
             }
+            x += done;
         }
-#endif
         for (; x < x1; ++x)
         {
             int i1, i2, i3;

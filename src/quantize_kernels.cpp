@@ -73,6 +73,18 @@ void dominantLabelsRow(const uchar* const* rows, int nrows, int cols, int k, uch
     FORESTMOD_DISPATCH(dominantLabelsRow(rows, nrows, cols, k, colsum, best, d));
 }
 
+int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold,
+                   int difference_threshold, int* cells)
+{
+#ifdef FORESTMOD_HAVE_AVX2
+    if (useAVX2())
+        return opt_AVX2::normalCellsRow(row, step, n, distance_threshold, difference_threshold,
+                                        cells);
+#endif
+    return cpu_baseline::normalCellsRow(row, step, n, distance_threshold, difference_threshold,
+                                        cells);
+}
+
 const char* quantizeKernelsPath()
 {
     return useAVX2() ? "AVX2" : "baseline";

@@ -49,6 +49,13 @@ void responsesRow(const uchar* s, int cols, const uchar* within, const uchar* lu
 colsum: cols bytes with k / 2 zero bytes before and k zero bytes after; best: cols bytes. */
 void dominantLabelsRow(const uchar* const* rows, int nrows, int cols, int k, uchar* colsum,
                        uchar* best, uchar* d);
+/** DepthNormal's quantization cell ((i3 * 21 + i2) * 21 + i1, -1 where LINEMOD gives no
+normal) of the pixels [0, x) of a depth row, x returned (a multiple of the vector size; the
+caller does the rest in scalar code): the plane fit to the 8 depths at +-5 pixels (rows
+row - 5 step, row + 5 step and columns -5, +5 readable) with cv::linemod's integer and float
+arithmetic, no fused multiply-add. */
+int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold,
+                   int difference_threshold, int* cells);
 /** The instruction set the kernels run with on this machine now ("AVX2" or "baseline"). */
 CV_EXPORTS const char* quantizeKernelsPath();
 

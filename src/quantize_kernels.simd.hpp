@@ -14,7 +14,7 @@
 
 #include "opencv2/core/hal/intrin.hpp"
 
-#include <cmath>
+#include <math.h> // nearbyintf: a libm function, not an inline one of a C++ header
 
 #ifndef FORESTMOD_KERNELS_NAMESPACE
 #error "define FORESTMOD_KERNELS_NAMESPACE (cpu_baseline or opt_AVX2) before including this file"
@@ -39,6 +39,8 @@ void responsesRow(const uchar* s, int cols, const uchar* within, const uchar* lu
                   uchar* const* d);
 void dominantLabelsRow(const uchar* const* rows, int nrows, int cols, int k, uchar* colsum,
                        uchar* best, uchar* d);
+int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold,
+                   int difference_threshold, int* cells);
 
 #ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
@@ -215,7 +217,7 @@ void orientationRow(const float* angle, int cols, uchar* onehot)
     {
         // saturate_cast<uchar>: rounded to nearest even (as cvRound), then clamped; no inline
         // function of OpenCV's headers here (see score_kernels.simd.hpp)
-        const float r = std::nearbyint(angle[c] * scale);
+        const float r = nearbyintf(angle[c] * scale);
         const int bin = r < 0.f ? 0 : (r > 255.f ? 255 : (int)r);
         onehot[c] = (uchar)(1 << (bin & 7));
     }
@@ -451,6 +453,89 @@ void dominantLabelsRow(const uchar* const* rows, int nrows, int cols, int k, uch
             }
         }
     }
+}
+
+int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold,
+                   int difference_threshold, int* cells)
+{
+    int x = 0;
+#if CV_SIMD
+    enum { R = 5, G = 20, CELLS = 21 }; // quantize_fast.cpp's NORMAL_R, NORMAL_G, NORMAL_CELLS
+    // a vector of pixels in 16 bits (differences that count are below 240, counts and sums stay
+    // below 2^15), products in 32 bits, the normal in float as cv::linemod
+    const int w = v_uint16::nlanes, h4 = v_int32::nlanes;
+    const v_uint16 vdiff = vx_setall_u16((ushort)difference_threshold);
+    const bool all_near = distance_threshold > 65535;
+    const v_uint16 vdist = vx_setall_u16((ushort)(all_near ? 65535 : distance_threshold));
+    const v_int16 z16 = vx_setzero_s16();
+    const v_int32 z = vx_setzero_s32();
+    const v_float32 half = vx_setall_f32((float)(G / 2));
+    const v_float32 g = vx_setall_f32((float)G), fone = vx_setall_f32(1.f);
+    const v_float32 fz = vx_setzero_f32();
+    const v_int32 cells_v = vx_setall_s32(CELLS), k1150 = vx_setall_s32(1150);
+    const ptrdiff_t up = -(ptrdiff_t)(R * step), dn = (ptrdiff_t)(R * step);
+    const ptrdiff_t offs[8] = { up - R, up, up + R, -R, R, dn - R, dn, dn + R };
+    for (; x <= n - w; x += w)
+    {
+        const ushort* p = row + x;
+        const v_uint16 d = vx_load(p);
+        // the 8 neighbours: f (0 / -1) where |depth difference| < threshold, fd = f delta
+        v_int16 f[8], fd[8];
+        for (int k = 0; k < 8; ++k)
+        {
+            const v_uint16 nb = vx_load(p + offs[k]);
+            const v_uint16 pos = nb - d, neg = d - nb; // saturating
+            f[k] = v_reinterpret_as_s16((pos | neg) < vdiff);
+            fd[k] = f[k] & v_sub_wrap(v_reinterpret_as_s16(pos), v_reinterpret_as_s16(neg));
+        }
+        // neighbours: 0 (-R,-R) 1 (0,-R) 2 (R,-R) 3 (-R,0) 4 (R,0) 5 (-R,R) 6 (0,R) 7 (R,R)
+        const v_int16 nx_count = z16 - (f[0] + f[3] + f[5] + f[2] + f[4] + f[7]);
+        const v_int16 ny_count = z16 - (f[0] + f[1] + f[2] + f[5] + f[6] + f[7]);
+        const v_int16 A0 = v_mul_wrap(vx_setall_s16(R * R), nx_count);
+        const v_int16 A3 = v_mul_wrap(vx_setall_s16(R * R), ny_count);
+        const v_int16 A1 = v_mul_wrap(vx_setall_s16(R * R), (f[2] + f[5]) - (f[0] + f[7]));
+        const v_int16 b0
+            = v_mul_wrap(vx_setall_s16(R), (fd[2] + fd[4] + fd[7]) - (fd[0] + fd[3] + fd[5]));
+        const v_int16 b1
+            = v_mul_wrap(vx_setall_s16(R), (fd[5] + fd[6] + fd[7]) - (fd[0] + fd[1] + fd[2]));
+        const v_int16 det = v_sub_wrap(v_mul_wrap(A0, A3), v_mul_wrap(A1, A1)); // <= 22500
+        v_int32 p0, p1, q0, q1;
+        v_mul_expand(A3, b0, p0, p1);
+        v_mul_expand(A1, b1, q0, q1);
+        const v_int32 ddx0 = p0 - q0, ddx1 = p1 - q1;
+        v_mul_expand(A0, b1, p0, p1);
+        v_mul_expand(A1, b0, q0, q1);
+        const v_int32 ddy0 = p0 - q0, ddy1 = p1 - q1;
+        v_uint32 dd0, dd1; // det * d < 22500 * 65536
+        v_mul_expand(v_reinterpret_as_u16(det), d, dd0, dd1);
+        const v_uint16 valid16 = all_near ? vx_setall_u16(0xffff) : (d < vdist);
+        v_int32 valid0, valid1; // sign-extended: all ones stay all ones
+        v_expand(v_reinterpret_as_s16(valid16), valid0, valid1);
+        for (int h = 0; h < 2; ++h)
+        {
+            // separate multiplications and additions: built with -ffp-contract=off, no FMA
+            v_float32 nx = v_cvt_f32(k1150 * (h ? ddx1 : ddx0));
+            v_float32 ny = v_cvt_f32(k1150 * (h ? ddy1 : ddy0));
+            v_float32 nzv = v_cvt_f32(z - v_reinterpret_as_s32(h ? dd1 : dd0));
+            const v_float32 norm = v_sqrt(nx * nx + ny * ny + nzv * nzv);
+            const v_float32 ok = (norm > fz) & v_reinterpret_as_f32(h ? valid1 : valid0);
+            const v_float32 inv = fone / v_select(ok, norm, fone);
+            nx = nx * inv;
+            ny = ny * inv;
+            nzv = nzv * inv;
+            const v_int32 i1 = v_trunc(nx * half + half);
+            const v_int32 i2 = v_trunc(ny * half + half);
+            const v_int32 i3 = v_trunc(nzv * g + g);
+            v_int32 idx = (i3 * cells_v + i2) * cells_v + i1;
+            idx = v_select(v_reinterpret_as_s32(ok), idx, vx_setall_s32(-1));
+            v_store(cells + x + h * h4, idx);
+        }
+    }
+#else
+    (void)row; (void)step; (void)n; (void)distance_threshold; (void)difference_threshold;
+    (void)cells;
+#endif
+    return x;
 }
 
 #endif // FORESTMOD_KERNELS_DECLARATIONS_ONLY

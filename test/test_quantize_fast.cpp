@@ -490,6 +490,41 @@ TEST(Forestmod_QuantizeFast, depth_normals_random_odd_sizes)
     }
 }
 
+// The normals' row kernel in its AVX2 build (when the CPU has it) and the baseline one: both equal
+// cv::linemod's DepthNormal, and each other, on rows whose vectorised part is around the vector
+// sizes (8 and 16 pixels; the kernel leaves the last pixels of a row to the scalar code).
+TEST(Forestmod_QuantizeFast, depth_normals_instruction_sets)
+{
+    using namespace cv::forestmod::detail;
+    const int widths[] = { 19, 26, 27, 28, 43, 44, 60, 100, 333 };
+    const std::vector<Ptr<linemod::Modality> > ms = depthModalities();
+    const bool was_optimized = useOptimized();
+    std::vector<Mat> out[2];
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        setUseOptimized(pass == 0);
+        for (size_t w = 0; w < sizeof(widths) / sizeof(widths[0]); ++w)
+        {
+            const Size size(widths[w], 41 + (int)w);
+            const Mat depth = randomDepth(size, 500 + w);
+            for (size_t i = 0; i < ms.size(); ++i)
+            {
+                std::ostringstream what;
+                what << "pass " << pass << " depth " << size << " #" << i;
+                expectSameLevels(ms[i], depth, Mat(), 2, what.str(), 0);
+                std::vector<Mat> fast;
+                ASSERT_TRUE(fastQuantize(ms[i], depth, Mat(), 2, fast)) << what.str();
+                EXPECT_GT(countNonZero(fast[0]), 0) << what.str();
+                out[pass].insert(out[pass].end(), fast.begin(), fast.end());
+            }
+        }
+    }
+    setUseOptimized(was_optimized);
+    ASSERT_EQ(out[0].size(), out[1].size());
+    for (size_t k = 0; k < out[0].size(); ++k)
+        EXPECT_EQ(0, differences(out[0][k], out[1][k])) << "image " << k;
+}
+
 TEST(Forestmod_QuantizeFast, depth_normals_real_frames)
 {
     const std::string shared = sharedDataPath();
