@@ -16,6 +16,10 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
+/** The instruction set the vectorised kernels (score_kernels, quantize_kernels) run with on this
+machine now: "AVX2" or "baseline" (exported for the tests). */
+CV_EXPORTS const char* kernelsPath();
+
 static inline bool useAVX2()
 {
 #ifdef FORESTMOD_HAVE_AVX2

@@ -85,11 +85,6 @@ int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold
                                         cells);
 }
 
-const char* quantizeKernelsPath()
-{
-    return useAVX2() ? "AVX2" : "baseline";
-}
-
 } // namespace detail
 } // namespace forestmod
 } // namespace cv

@@ -56,8 +56,6 @@ row - 5 step, row + 5 step and columns -5, +5 readable) with cv::linemod's integ
 arithmetic, no fused multiply-add. */
 int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold,
                    int difference_threshold, int* cells);
-/** The instruction set the kernels run with on this machine now ("AVX2" or "baseline"). */
-CV_EXPORTS const char* quantizeKernelsPath();
 
 } // namespace detail
 } // namespace forestmod

@@ -57,7 +57,7 @@ int positionsAbove16(const ushort* src, int n, ushort threshold, int* out)
     return cpu_baseline::positionsAbove16(src, n, threshold, out);
 }
 
-const char* scoreKernelsPath()
+const char* kernelsPath()
 {
     return useAVX2() ? "AVX2" : "baseline";
 }

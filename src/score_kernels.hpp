@@ -41,8 +41,6 @@ CV_EXPORTS void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels
 their number: the exhaustive search's scan of a template's scores (most positions stay under the
 threshold: one vector comparison per 8 or 16 of them). */
 CV_EXPORTS int positionsAbove16(const ushort* src, int n, ushort threshold, int* out);
-/** The instruction set the kernels run with on this machine now ("AVX2" or "baseline"). */
-CV_EXPORTS const char* scoreKernelsPath();
 
 } // namespace detail
 } // namespace forestmod

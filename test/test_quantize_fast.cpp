@@ -9,6 +9,7 @@
 #include "test_precomp.hpp"
 #include "../src/quantize_fast.hpp"
 #include "../src/quantize_kernels.hpp"
+#include "../src/kernel_dispatch.hpp"
 #include "../src/scene_pyramid.hpp"
 #include "../src/refine.hpp"
 
@@ -238,7 +239,7 @@ TEST(Forestmod_QuantizeFast, instruction_sets_give_the_same_images)
         setUseOptimized(pass == 0);
         if (pass == 1)
         {
-            EXPECT_STREQ("baseline", quantizeKernelsPath());
+            EXPECT_STREQ("baseline", kernelsPath());
         }
         for (size_t w = 0; w < sizeof(widths) / sizeof(widths[0]); ++w)
         {
@@ -279,7 +280,7 @@ TEST(Forestmod_QuantizeFast, instruction_sets_give_the_same_images)
     ASSERT_EQ(out[0].size(), out[1].size());
     for (size_t k = 0; k < out[0].size(); ++k)
         EXPECT_EQ(0, differences(out[0][k], out[1][k])) << "image " << k;
-    std::cout << "quantize kernels: " << quantizeKernelsPath() << std::endl;
+    std::cout << "quantize kernels: " << kernelsPath() << std::endl;
 }
 
 TEST(Forestmod_QuantizeFast, roi_and_threads)

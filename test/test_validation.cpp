@@ -13,6 +13,7 @@
 #include "../src/validator.hpp"
 #include "../src/quantize_fast.hpp"
 #include "../src/score_kernels.hpp"
+#include "../src/kernel_dispatch.hpp"
 
 namespace opencv_test { namespace {
 
@@ -222,7 +223,7 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
             setUseOptimized(pass == 0);
             if (pass == 1)
             {
-                EXPECT_STREQ("baseline", scoreKernelsPath());
+                EXPECT_STREQ("baseline", kernelsPath());
             }
             int span_x = 0, span_y = 0;
             ASSERT_TRUE(scoreEverywhere(lm, tp, 0, 2, span_x, span_y, scores[pass]));
@@ -284,7 +285,7 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
         }
     }
     setUseOptimized(was_optimized);
-    std::cout << "score kernels: " << scoreKernelsPath() << std::endl;
+    std::cout << "score kernels: " << kernelsPath() << std::endl;
 }
 
 }} // namespace
