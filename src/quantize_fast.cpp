@@ -13,8 +13,9 @@
 // share a bin; the border rows and columns stay 0. The level's mask (INTER_NEAREST of the
 // previous one) zeroes the rest.
 //
-// ColorHue: optional Gaussian blur (BORDER_REPLICATE), HSV, 1 << hueBin(h) where s and v pass
-// their thresholds, masked.
+// ColorHue: optional Gaussian blur (BORDER_REPLICATE), HSV (cv::cvtColor's 8-bit integer
+// arithmetic, computed in the row kernel), 1 << hueBin(h) where s and v pass their thresholds,
+// masked.
 //
 // The OpenCV functions used here are called on whole images or on images of whole rows that
 // OpenCV treats exactly as the full image (the same code path for every pixel), so their
@@ -289,13 +290,9 @@ static void hueRect(const Mat& src, const Mat& mask, int smin, int vmin, int k, 
         {
             smoothed = src(Rect(out.x, a, out.width, b - a));
         }
-        Mat hsv = scratch(1, b - a, out.width, CV_8UC3);
-        const uchar* data = hsv.data;
-        cvtColor(smoothed, hsv, COLOR_BGR2HSV);
-        CV_Assert(hsv.data == data);
         for (int r = a; r < b; ++r)
-            hueRow(hsv.ptr<uchar>(r - a), mask.empty() ? 0 : mask.ptr<uchar>(r) + out.x,
-                   out.width, smin, vmin, dst.ptr<uchar>(r) + out.x);
+            hueBinsRow(smoothed.ptr<uchar>(r - a), mask.empty() ? 0 : mask.ptr<uchar>(r) + out.x,
+                       out.width, smin, vmin, dst.ptr<uchar>(r) + out.x);
     }
 }
 

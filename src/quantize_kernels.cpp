@@ -46,9 +46,28 @@ void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar
     FORESTMOD_DISPATCH(majorityRow(up, mid, dn, strong, mask, n, dst));
 }
 
-void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, uchar* dst)
+namespace {
+// The divisors of OpenCV's 8-bit BGR -> HSV (imgproc's color_hsv, hsv_shift 12):
+// sdiv[v] = round(255 * 2^12 / v), hdiv[d] = round(180 * 2^12 / (6 d)), both 0 at 0.
+struct HsvDivisors
 {
-    FORESTMOD_DISPATCH(hueRow(hsv, mask, cols, smin, vmin, dst));
+    int sdiv[256], hdiv[256];
+    HsvDivisors()
+    {
+        sdiv[0] = hdiv[0] = 0;
+        for (int i = 1; i < 256; ++i)
+        {
+            sdiv[i] = saturate_cast<int>((255 << 12) / (1. * i));
+            hdiv[i] = saturate_cast<int>((180 << 12) / (6. * i));
+        }
+    }
+};
+} // namespace
+
+void hueBinsRow(const uchar* bgr, const uchar* mask, int cols, int smin, int vmin, uchar* dst)
+{
+    static const HsvDivisors t;
+    FORESTMOD_DISPATCH(hueBinsRow(bgr, mask, cols, smin, vmin, t.sdiv, t.hdiv, dst));
 }
 
 void orWindowRow(const uchar* s, int cols, int T, uchar* d)

@@ -9,6 +9,7 @@
 // intrinsics, compiled for the baseline and, on x86-64, once more for AVX2 (src/avx2/), chosen
 // at each call (kernel_dispatch.hpp). Integer arithmetic and exact conversions: every path gives
 // the same bits (tests Forestmod_QuantizeFast.*, run with and without cv::setUseOptimized).
+// hueBinsRow is exported for its test only (the header is not installed).
 
 #include "opencv2/core.hpp"
 
@@ -31,9 +32,11 @@ pixel share (rows readable at [-1] and [n]), kept where `strong` and the mask (m
 are set, else 0. */
 void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar* strong,
                  const uchar* mask, int n, uchar* dst);
-/** ColorHue's label of a row of HSV pixels: 1 << hueBin(h) where s >= smin and v >= vmin and
-the mask (may be null) is set, else 0. */
-void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, uchar* dst);
+/** ColorHue's label of a row of BGR pixels: 1 << hueBin(h) where s >= smin and v >= vmin and
+the mask (may be null) is set, else 0; h, s, v as cv::cvtColor(COLOR_BGR2HSV) computes them
+(its 8-bit integer arithmetic, no HSV image in between). */
+CV_EXPORTS void hueBinsRow(const uchar* bgr, const uchar* mask, int cols, int smin, int vmin,
+                           uchar* dst);
 /** d[c] = OR of s[c .. c + T), c < cols (s readable up to cols + T - 1). */
 void orWindowRow(const uchar* s, int cols, int T, uchar* d);
 /** d[c] = OR of the n >= 1 rows first[k * step + c], c < cols. */

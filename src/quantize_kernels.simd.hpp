@@ -32,7 +32,8 @@ void sobelStrongestPlanar(const uchar* const* up, const uchar* const* mid,
 void orientationRow(const float* angle, int cols, uchar* onehot);
 void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar* strong,
                  const uchar* mask, int n, uchar* dst);
-void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, uchar* dst);
+void hueBinsRow(const uchar* bgr, const uchar* mask, int cols, int smin, int vmin,
+                const int* sdiv, const int* hdiv, uchar* dst);
 void orWindowRow(const uchar* s, int cols, int T, uchar* d);
 void orRows(const uchar* first, size_t step, int n, int cols, uchar* d);
 void responsesRow(const uchar* s, int cols, const uchar* within, const uchar* lut,
@@ -278,28 +279,95 @@ void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar
     }
 }
 
-void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, uchar* dst)
+// OpenCV's 8-bit HSV of a pixel as its color_hsv code computes it (hsv_shift 12): v the largest
+// channel, diff = v - the smallest, the sector's numerator (red first, then green, then blue),
+// h = round(numerator * hdiv[diff]), s = round(diff * sdiv[v]).
+static inline int hsvNumerator(int b, int g, int r, int v, int diff)
+{
+    return v == r ? g - b : v == g ? b - r + 2 * diff : r - g + 4 * diff;
+}
+
+#if CV_SIMD
+// h and s of 8 / 16 pixels (32-bit lanes) from their numerators, diffs and values.
+static inline void hsvQuarter(const v_int32& num, const v_int32& diff, const v_int32& v,
+                              const int* sdiv, const int* hdiv, v_int32& h, v_int32& s)
+{
+    const v_int32 half = vx_setall_s32(1 << 11), z = vx_setzero_s32();
+    h = (num * v_lut(hdiv, diff) + half) >> 12;
+    h += (h < z) & vx_setall_s32(180);
+    s = (diff * v_lut(sdiv, v) + half) >> 12;
+}
+
+// The sector numerators of a half vector of pixels (16-bit lanes; isr, isg: 0 / -1).
+static inline v_int16 hsvNumerators(const v_uint16& b, const v_uint16& g, const v_uint16& r,
+                                    const v_uint16& diff, const v_int16& isr, const v_int16& isg)
+{
+    const v_int16 B = v_reinterpret_as_s16(b), G = v_reinterpret_as_s16(g);
+    const v_int16 R = v_reinterpret_as_s16(r), D = v_reinterpret_as_s16(diff);
+    const v_int16 D2 = D + D;
+    return v_select(isr, G - B, v_select(isg, B - R + D2, R - G + (D2 + D2)));
+}
+
+// 1 << hueBin(h) where h < 180, s >= smin, v >= vmin, else 0 (bytes).
+static inline v_uint8 hueLabels(const v_uint8& h, const v_uint8& s, const v_uint8& v, int smin,
+                                int vmin)
 {
     // hueBin(h) = ((4 h + 45) / 90) & 7 changes at h = 12, 34, 57, 79, 102, 124, 147, 169; bin 0
     // also covers [169, 180)
     static const uchar edges[9] = { 0, 12, 34, 57, 79, 102, 124, 147, 169 };
+    v_uint8 oh = (h >= vx_setall_u8(edges[8])) & (h < vx_setall_u8(180)) & vx_setall_u8(1);
+    for (int k = 0; k < 8; ++k)
+    {
+        const v_uint8 in = (h >= vx_setall_u8(edges[k])) & (h < vx_setall_u8(edges[k + 1]));
+        oh |= in & vx_setall_u8((uchar)(1 << k));
+    }
+    const v_uint8 vs = vx_setall_u8((uchar)(smin < 255 ? smin : 255));
+    const v_uint8 vv = vx_setall_u8((uchar)(vmin < 255 ? vmin : 255));
+    return oh & (s >= vs) & (v >= vv);
+}
+#endif
+
+void hueBinsRow(const uchar* bgr, const uchar* mask, int cols, int smin, int vmin,
+                const int* sdiv, const int* hdiv, uchar* dst)
+{
 #if CV_SIMD
     if (cols >= v_uint8::nlanes)
     {
-        const v_uint8 vs = vx_setall_u8((uchar)(smin < 255 ? smin : 255));
-        const v_uint8 vv = vx_setall_u8((uchar)(vmin < 255 ? vmin : 255));
         const v_uint8 z = vx_setzero_u8();
-        const v_uint8 h180 = vx_setall_u8(180);
         overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
-            v_uint8 h, s, v;
-            v_load_deinterleave(hsv + 3 * c, h, s, v);
-            v_uint8 oh = (h >= vx_setall_u8(edges[8])) & (h < h180) & vx_setall_u8(1);
-            for (int k = 0; k < 8; ++k)
+            v_uint8 b, g, r;
+            v_load_deinterleave(bgr + 3 * c, b, g, r);
+            const v_uint8 v = v_max(v_max(b, g), r);
+            const v_uint8 diff = v - v_min(v_min(b, g), r);
+            const v_uint8 isr = v == r, isg = (v == g) & ~isr;
+            v_uint16 b16[2], g16[2], r16[2], d16[2], v16[2];
+            v_int16 isr16[2], isg16[2];
+            v_expand(b, b16[0], b16[1]);
+            v_expand(g, g16[0], g16[1]);
+            v_expand(r, r16[0], r16[1]);
+            v_expand(diff, d16[0], d16[1]);
+            v_expand(v, v16[0], v16[1]);
+            v_expand(v_reinterpret_as_s8(isr), isr16[0], isr16[1]); // sign-extended: 0 / -1
+            v_expand(v_reinterpret_as_s8(isg), isg16[0], isg16[1]);
+            v_int16 h16[2], s16[2];
+            for (int half = 0; half < 2; ++half)
             {
-                const v_uint8 in = (h >= vx_setall_u8(edges[k])) & (h < vx_setall_u8(edges[k + 1]));
-                oh |= in & vx_setall_u8((uchar)(1 << k));
+                const v_int16 num = hsvNumerators(b16[half], g16[half], r16[half], d16[half],
+                                                  isr16[half], isg16[half]);
+                v_int32 n32[2];
+                v_uint32 d32[2], v32[2];
+                v_expand(num, n32[0], n32[1]);
+                v_expand(d16[half], d32[0], d32[1]);
+                v_expand(v16[half], v32[0], v32[1]);
+                v_int32 h[2], s[2];
+                for (int q = 0; q < 2; ++q)
+                    hsvQuarter(n32[q], v_reinterpret_as_s32(d32[q]), v_reinterpret_as_s32(v32[q]),
+                               sdiv, hdiv, h[q], s[q]);
+                h16[half] = v_pack(h[0], h[1]);
+                s16[half] = v_pack(s[0], s[1]);
             }
-            oh &= (s >= vs) & (v >= vv);
+            v_uint8 oh = hueLabels(v_pack_u(h16[0], h16[1]), v_pack_u(s16[0], s16[1]), v, smin,
+                                   vmin);
             if (mask)
                 oh = v_select(vx_load(mask + c) == z, z, oh);
             v_store(dst + c, oh);
@@ -307,15 +375,23 @@ void hueRow(const uchar* hsv, const uchar* mask, int cols, int smin, int vmin, u
         return;
     }
 #endif
+    static const uchar edges[9] = { 0, 12, 34, 57, 79, 102, 124, 147, 169 };
     for (int c = 0; c < cols; ++c)
     {
-        const uchar* p = hsv + 3 * c;
+        const int b = bgr[3 * c], g = bgr[3 * c + 1], r = bgr[3 * c + 2];
+        const int bg_max = b > g ? b : g, bg_min = b < g ? b : g;
+        const int v = bg_max > r ? bg_max : r;
+        const int diff = v - (bg_min < r ? bg_min : r);
+        int h = (hsvNumerator(b, g, r, v, diff) * hdiv[diff] + (1 << 11)) >> 12;
+        if (h < 0)
+            h += 180;
+        const int s = (diff * sdiv[v] + (1 << 11)) >> 12;
         uchar q = 0;
-        if (p[0] < 180 && p[1] >= smin && p[2] >= vmin)
+        if (h < 180 && s >= smin && v >= vmin)
         {
             int bin = 0;
             for (int k = 1; k < 8; ++k)
-                if (p[0] >= edges[k] && p[0] < edges[k + 1])
+                if (h >= edges[k] && h < edges[k + 1])
                     bin = k;
             q = (uchar)(1 << bin);
         }

@@ -283,6 +283,54 @@ TEST(Forestmod_QuantizeFast, instruction_sets_give_the_same_images)
     std::cout << "quantize kernels: " << kernelsPath() << std::endl;
 }
 
+// The hue kernel computes OpenCV's 8-bit HSV itself (hueBinsRow): equal to quantizeHue
+// (cv::cvtColor + hueBin) on every one of the 2^24 colours, for several thresholds, rows of
+// every width class (the last vector overlapping, the scalar path), both instruction sets.
+TEST(Forestmod_QuantizeFast, hue_bins_equal_cvtColor_on_every_colour)
+{
+    using namespace cv::forestmod::detail;
+    Mat all(4096, 4096, CV_8UC3);
+    for (int y = 0; y < all.rows; ++y)
+    {
+        Vec3b* p = all.ptr<Vec3b>(y);
+        for (int x = 0; x < all.cols; ++x)
+        {
+            const int i = y * all.cols + x;
+            p[x] = Vec3b((uchar)(i & 255), (uchar)((i >> 8) & 255), (uchar)(i >> 16));
+        }
+    }
+    const Mat mask = someMask(Size(all.cols, 64), 17).row(32).clone();
+    const int thresholds[][2] = { { 50, 40 }, { 0, 0 }, { 1, 255 }, { 255, 1 }, { 128, 200 } };
+    const int widths[] = { 4096, 31, 33, 7 }; // rows cut into pieces of these widths
+    const bool was_optimized = useOptimized();
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        setUseOptimized(pass == 0);
+        for (size_t t = 0; t < sizeof(thresholds) / sizeof(thresholds[0]); ++t)
+        {
+            const int smin = thresholds[t][0], vmin = thresholds[t][1];
+            Mat ref, fast(all.size(), CV_8U, Scalar(77));
+            quantizeHue(all, ref, smin, vmin);
+            EXPECT_GT(countNonZero(ref), 0);
+            const int w = widths[t % (sizeof(widths) / sizeof(widths[0]))];
+            for (int y = 0; y < all.rows; ++y)
+                for (int x = 0; x < all.cols; x += w)
+                    hueBinsRow(all.ptr<uchar>(y) + 3 * x, 0, std::min(w, all.cols - x), smin,
+                               vmin, fast.ptr<uchar>(y) + x);
+            EXPECT_EQ(0, differences(ref, fast))
+                << "pass " << pass << " thresholds " << smin << " " << vmin << " width " << w;
+            // masked: zero where the mask is
+            Mat row;
+            hueBinsRow(all.ptr<uchar>(100), mask.ptr<uchar>(), all.cols, smin, vmin,
+                       fast.ptr<uchar>(100));
+            ref.row(100).copyTo(row);
+            row.setTo(Scalar(0), mask == 0);
+            EXPECT_EQ(0, differences(row, fast.row(100))) << "masked, pass " << pass;
+        }
+    }
+    setUseOptimized(was_optimized);
+}
+
 TEST(Forestmod_QuantizeFast, roi_and_threads)
 {
     // a ROI of a larger image: OpenCV's filters then read the pixels around it
