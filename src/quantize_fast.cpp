@@ -320,8 +320,9 @@ void quantizeHueLevel(const Mat& src, const Mat& mask, const ModalityInfo& info,
 // the 8 depths at +-5 pixels whose difference to the centre is below difference_threshold
 // (integer normal equations), the normal (1150 ddx, 1150 ddy, -det d) normalised in float and
 // mapped to a cell (i1, i2, i3) of a G x G x G grid, the cell's label from a table; pixels at
-// or beyond distance_threshold and degenerate normals get 0; then a 5x5 median. The next levels
-// are INTER_NEAREST reductions of the labels.
+// or beyond distance_threshold and degenerate normals get 0; then a 5x5 median (a bit-sliced
+// row kernel when every label of the frame is 0 or a single bit, as cv::linemod's table holds;
+// cv::medianBlur otherwise). The next levels are INTER_NEAREST reductions of the labels.
 //
 // The cell -> label table is data of cv::linemod, not part of its API: it is read out of the
 // installed cv::linemod::DepthNormal once, by quantizing planes of known normals
@@ -605,10 +606,13 @@ bool depthNormalReady(const ModalityInfo& info)
 }
 
 // Labels (before the median) of rows [a, b) of a CV_16U depth image; the pixels whose cell has
-// no known label yet are appended to `unknown` (label 0 for now).
+// no known label yet are appended to `unknown` (label 0 for now). `other_labels` is set when a
+// label is neither 0 nor a single bit (cv::linemod's table holds single bits; the bytes it reads
+// beyond it, for cells of a coordinate 20, need not).
 static void normalRows(const Mat& depth, const ModalityInfo& info, const NormalLabelTable& t,
-                       int a, int b, Mat& dst, std::vector<Point>& unknown)
+                       int a, int b, Mat& dst, std::vector<Point>& unknown, bool& other_labels)
 {
+    uchar multi = 0; // OR of label & (label - 1)
     const int rows = depth.rows, cols = depth.cols, R = NORMAL_R;
     const int x0 = R, x1 = cols - R - 1; // LINEMOD's loop bounds
     const size_t step = depth.step1();
@@ -637,6 +641,7 @@ static void normalRows(const Mat& depth, const ModalityInfo& info, const NormalL
                 uchar v = 0;
                 if (ids[k] >= 0 && !t.lookup(ids[k], v))
                     unknown.push_back(Point(x + k, y));
+                multi |= v & (v - 1);
                 out[x + k] = v;
             }
             x += done;
@@ -652,9 +657,12 @@ static void normalRows(const Mat& depth, const ModalityInfo& info, const NormalL
                 if (!in_grid || !t.lookup(cellIndex(i1, i2, i3), v))
                     unknown.push_back(Point(x, y));
             }
+            multi |= v & (v - 1);
             out[x] = v;
         }
     }
+    if (multi)
+        other_labels = true;
 }
 
 // Level 0 of DepthNormal without its mask; false when cv::linemod contradicted the read-out.
@@ -665,10 +673,14 @@ static bool depthNormalLevel0(const Mat& depth, const ModalityInfo& info, Mat& l
     Mat raw(rows, cols, CV_8U);
     std::vector<Point> unknown;
     std::mutex unknown_mutex;
+    std::atomic<bool> other_labels(false);
     const int nstripes = stripesFor(rows, cols, 32);
     parallel_for_(Range(0, rows), [&](const Range& r) {
         std::vector<Point> mine;
-        normalRows(depth, info, t, r.start, r.end, raw, mine);
+        bool other = false;
+        normalRows(depth, info, t, r.start, r.end, raw, mine, other);
+        if (other)
+            other_labels = true;
         if (!mine.empty())
         {
             std::lock_guard<std::mutex> lock(unknown_mutex);
@@ -693,12 +705,29 @@ static bool depthNormalLevel0(const Mat& depth, const ModalityInfo& info, Mat& l
                                 i2, i3)
                 || !t.lookup(cellIndex(i1, i2, i3), v))
                 return false;
+            if (v & (v - 1))
+                other_labels = true;
             raw.at<uchar>(unknown[k]) = v;
         }
     }
-    // LINEMOD's 5x5 median, in stripes of whole rows (each an image of its own: the same code
-    // on every pixel as on the whole image)
     labels.create(rows, cols, CV_8U);
+    if (!other_labels)
+    {
+        // LINEMOD's 5x5 median (cv::medianBlur, BORDER_REPLICATE) of labels that are single bits
+        parallel_for_(Range(0, rows), [&](const Range& r) {
+            Mat planes = scratch(0, 1, 3 * (cols + 4), CV_8U);
+            for (int y = r.start; y < r.end; ++y)
+            {
+                const uchar* around[5];
+                for (int k = 0; k < 5; ++k)
+                    around[k] = raw.ptr<uchar>(std::min(std::max(y - 2 + k, 0), rows - 1));
+                medianOneHotRow(around, cols, planes.ptr<uchar>(), labels.ptr<uchar>(y));
+            }
+        }, nstripes);
+        return true;
+    }
+    // other labels: cv::medianBlur in stripes of whole rows (each an image of its own: the same
+    // code on every pixel as on the whole image)
     parallel_for_(Range(0, rows), [&](const Range& r) {
         const int ga = std::max(r.start - 2, 0), gb = std::min(r.end + 2, rows);
         Mat part;

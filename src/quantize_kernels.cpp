@@ -92,6 +92,11 @@ void dominantLabelsRow(const uchar* const* rows, int nrows, int cols, int k, uch
     FORESTMOD_DISPATCH(dominantLabelsRow(rows, nrows, cols, k, colsum, best, d));
 }
 
+void medianOneHotRow(const uchar* const* rows, int cols, uchar* planes, uchar* dst)
+{
+    FORESTMOD_DISPATCH(medianOneHotRow(rows, cols, planes, dst));
+}
+
 int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold,
                    int difference_threshold, int* cells)
 {

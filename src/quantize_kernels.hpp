@@ -9,7 +9,7 @@
 // intrinsics, compiled for the baseline and, on x86-64, once more for AVX2 (src/avx2/), chosen
 // at each call (kernel_dispatch.hpp). Integer arithmetic and exact conversions: every path gives
 // the same bits (tests Forestmod_QuantizeFast.*, run with and without cv::setUseOptimized).
-// hueBinsRow is exported for its test only (the header is not installed).
+// hueBinsRow and medianOneHotRow are exported for their tests only (the header is not installed).
 
 #include "opencv2/core.hpp"
 
@@ -59,6 +59,11 @@ row - 5 step, row + 5 step and columns -5, +5 readable) with cv::linemod's integ
 arithmetic, no fused multiply-add. */
 int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold,
                    int difference_threshold, int* cells);
+
+/** One row of the 5x5 median (cv::medianBlur, BORDER_REPLICATE) of an image of one-hot labels
+(every pixel 0 or 1 << j): rows = the 5 rows around it (clamped to the image), planes: scratch of
+3 * (cols + 4) bytes. */
+CV_EXPORTS void medianOneHotRow(const uchar* const* rows, int cols, uchar* planes, uchar* dst);
 
 } // namespace detail
 } // namespace forestmod

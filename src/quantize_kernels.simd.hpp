@@ -42,6 +42,7 @@ void dominantLabelsRow(const uchar* const* rows, int nrows, int cols, int k, uch
                        uchar* best, uchar* d);
 int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold,
                    int difference_threshold, int* cells);
+void medianOneHotRow(const uchar* const* rows, int cols, uchar* planes, uchar* dst);
 
 #ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
@@ -612,6 +613,116 @@ int normalCellsRow(const ushort* row, size_t step, int n, int distance_threshold
     (void)cells;
 #endif
     return x;
+}
+
+// The 5x5 median of one-hot labels (0 or 1 << j), bit-sliced: a label's byte of "below" bits
+// (bit k set when label < 1 << k) is summed over the window per bit position with full adders
+// (column sums of 5 rows in 3 bit planes, then 5 columns), bit k of the result tells whether at
+// least 13 of the 25 labels are below 1 << k, and the median is the label just under the lowest
+// such bit. Bitwise operations only: the same code serves vectors and single bytes.
+template <typename T> static inline void fullAdd(const T& a, const T& b, const T& c, T& sum,
+                                                 T& carry)
+{
+    const T t = a ^ b;
+    sum = t ^ c;
+    carry = (a & b) | (t & c);
+}
+
+// bit k of the result: at least 13 of the 25 labels of the window below 1 << k. a..e: the
+// 3-bit column counts (planes [0], [1], [2]) of the window's 5 columns.
+template <typename T> static inline T atLeast13(const T* a, const T* b, const T* c, const T* d,
+                                               const T* e)
+{
+    T s, k0a, t0, k0b;
+    fullAdd(a[0], b[0], c[0], s, k0a);
+    fullAdd(s, d[0], e[0], t0, k0b);
+    T s1, k1a, s2, k1b, t1, k1c;
+    fullAdd(a[1], b[1], c[1], s1, k1a);
+    fullAdd(d[1], e[1], k0a, s2, k1b);
+    fullAdd(s1, s2, k0b, t1, k1c);
+    T u1, m1, u2, m2, u3, m3;
+    fullAdd(a[2], b[2], c[2], u1, m1);
+    fullAdd(d[2], e[2], k1a, u2, m2);
+    fullAdd(k1b, k1c, u1, u3, m3);
+    const T t2 = u2 ^ u3, m4 = u2 & u3;
+    T v1, n1;
+    fullAdd(m1, m2, m3, v1, n1);
+    const T t3 = v1 ^ m4, t4 = n1 | (v1 & m4); // the count: t4 t3 t2 t1 t0 in binary
+    return t4 | (t3 & t2 & (t1 | t0));
+}
+
+void medianOneHotRow(const uchar* const* rows, int cols, uchar* planes, uchar* dst)
+{
+    // column counts of "below" bits, 3 bit planes of cols + 4 bytes (2 replicated each side)
+    const int W = cols + 4;
+    uchar* p[3] = { planes, planes + W, planes + 2 * W };
+#if CV_SIMD
+    if (cols >= v_uint8::nlanes)
+    {
+        const v_uint8 z = vx_setzero_u8(), one = vx_setall_u8(1);
+        overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
+            v_uint8 below[5];
+            for (int k = 0; k < 5; ++k)
+            {
+                const v_uint8 x = vx_load(rows[k] + c);
+                below[k] = (x == z) | ~v_sub_wrap(v_add_wrap(x, x), one);
+            }
+            v_uint8 s, c1, b0, c2;
+            fullAdd(below[0], below[1], below[2], s, c1);
+            fullAdd(s, below[3], below[4], b0, c2);
+            v_store(p[0] + c + 2, b0);
+            v_store(p[1] + c + 2, c1 ^ c2);
+            v_store(p[2] + c + 2, c1 & c2);
+        });
+        for (int k = 0; k < 3; ++k)
+        {
+            p[k][0] = p[k][1] = p[k][2];
+            p[k][cols + 2] = p[k][cols + 3] = p[k][cols + 1];
+        }
+        const v_uint8 lo7 = vx_setall_u8(0x7F), top = vx_setall_u8(0x80);
+        overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
+            v_uint8 w[5][3];
+            for (int i = 0; i < 5; ++i)
+                for (int k = 0; k < 3; ++k)
+                    w[i][k] = vx_load(p[k] + c + i);
+            const v_uint8 r = atLeast13(w[0], w[1], w[2], w[3], w[4]);
+            // the lowest set bit of r, halved; 128 where no bit is set
+            const v_uint8 low = r & v_sub_wrap(z, r);
+            const v_uint8 half = v_reinterpret_as_u8(v_reinterpret_as_u16(low) >> 1) & lo7;
+            v_store(dst + c, half | ((r == z) & top));
+        });
+        return;
+    }
+#endif
+    for (int c = 0; c < cols; ++c)
+    {
+        int below[5];
+        for (int k = 0; k < 5; ++k)
+        {
+            const int x = rows[k][c];
+            below[k] = x == 0 ? 0xFF : ~(2 * x - 1) & 0xFF;
+        }
+        int s, c1, b0, c2;
+        fullAdd(below[0], below[1], below[2], s, c1);
+        fullAdd(s, below[3], below[4], b0, c2);
+        p[0][c + 2] = (uchar)b0;
+        p[1][c + 2] = (uchar)(c1 ^ c2);
+        p[2][c + 2] = (uchar)(c1 & c2);
+    }
+    for (int k = 0; k < 3; ++k)
+    {
+        p[k][0] = p[k][1] = p[k][2];
+        p[k][cols + 2] = p[k][cols + 3] = p[k][cols + 1];
+    }
+    for (int c = 0; c < cols; ++c)
+    {
+        int w[5][3];
+        for (int i = 0; i < 5; ++i)
+            for (int k = 0; k < 3; ++k)
+                w[i][k] = p[k][c + i];
+        const int r = atLeast13(w[0], w[1], w[2], w[3], w[4]) & 0xFF;
+        dst[c] = (uchar)(r ? (r & -r) >> 1 : 0x80);
+    }
 }
 
 #endif // FORESTMOD_KERNELS_DECLARATIONS_ONLY

@@ -331,6 +331,48 @@ TEST(Forestmod_QuantizeFast, hue_bins_equal_cvtColor_on_every_colour)
     setUseOptimized(was_optimized);
 }
 
+// DepthNormal's 5x5 median of one-hot labels (medianOneHotRow): equal to cv::medianBlur
+// (BORDER_REPLICATE) on images of 0 and single bits, regions of one label with noise, every width
+// class (scalar path, one vector, overlapping last vector), both instruction sets.
+TEST(Forestmod_QuantizeFast, median_of_one_hot_labels_equals_medianBlur)
+{
+    using namespace cv::forestmod::detail;
+    const Size sizes[] = { Size(1, 1), Size(3, 7), Size(5, 2), Size(15, 9), Size(16, 16),
+                           Size(17, 5), Size(32, 11), Size(33, 33), Size(64, 3), Size(97, 41),
+                           Size(640, 48) };
+    const bool was_optimized = useOptimized();
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        setUseOptimized(pass == 0);
+        for (size_t i = 0; i < sizeof(sizes) / sizeof(sizes[0]); ++i)
+        {
+            const Size size = sizes[i];
+            RNG rng(900 + i);
+            // blobs of one label, then noise of any label (0 .. 128 one-hot) on a share of pixels
+            Mat img(size, CV_8U);
+            for (int y = 0; y < size.height; ++y)
+                for (int x = 0; x < size.width; ++x)
+                {
+                    const int blob = ((x / 6) * 7 + (y / 5) * 3) % 9;
+                    const int j = rng.uniform(0, 4) == 0 ? rng.uniform(0, 9) : blob;
+                    img.at<uchar>(y, x) = (uchar)(j == 8 ? 0 : 1 << j);
+                }
+            Mat ref, fast(size, CV_8U, Scalar(3));
+            medianBlur(img, ref, 5);
+            std::vector<uchar> planes(3 * (size.width + 4));
+            for (int y = 0; y < size.height; ++y)
+            {
+                const uchar* around[5];
+                for (int k = 0; k < 5; ++k)
+                    around[k] = img.ptr<uchar>(std::min(std::max(y - 2 + k, 0), size.height - 1));
+                medianOneHotRow(around, size.width, &planes[0], fast.ptr<uchar>(y));
+            }
+            EXPECT_EQ(0, differences(ref, fast)) << "pass " << pass << " size " << size;
+        }
+    }
+    setUseOptimized(was_optimized);
+}
+
 TEST(Forestmod_QuantizeFast, roi_and_threads)
 {
     // a ROI of a larger image: OpenCV's filters then read the pixels around it
