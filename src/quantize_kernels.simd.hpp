@@ -289,14 +289,19 @@ static inline int hsvNumerator(int b, int g, int r, int v, int diff)
 }
 
 #if CV_SIMD
-// h and s of 8 / 16 pixels (32-bit lanes) from their numerators, diffs and values.
+// h and s of 8 / 16 pixels (32-bit lanes) from their numerators, diffs and values. The divisors
+// are the float quotients rounded to nearest, not table reads (gathers): equal to the tables'
+// for every divisor 1..255 (test hue_bins_equal_cvtColor_on_every_colour); a divisor 0 comes
+// with a numerator 0, and the product is 0 whatever the quotient.
 static inline void hsvQuarter(const v_int32& num, const v_int32& diff, const v_int32& v,
-                              const int* sdiv, const int* hdiv, v_int32& h, v_int32& s)
+                              v_int32& h, v_int32& s)
 {
     const v_int32 half = vx_setall_s32(1 << 11), z = vx_setzero_s32();
-    h = (num * v_lut(hdiv, diff) + half) >> 12;
+    const v_int32 hd = v_round(vx_setall_f32(180 * 4096 / 6.f) / v_cvt_f32(diff));
+    const v_int32 sd = v_round(vx_setall_f32(255 * 4096.f) / v_cvt_f32(v));
+    h = (num * hd + half) >> 12;
     h += (h < z) & vx_setall_s32(180);
-    s = (diff * v_lut(sdiv, v) + half) >> 12;
+    s = (diff * sd + half) >> 12;
 }
 
 // The sector numerators of a half vector of pixels (16-bit lanes; isr, isg: 0 / -1).
@@ -363,7 +368,7 @@ void hueBinsRow(const uchar* bgr, const uchar* mask, int cols, int smin, int vmi
                 v_int32 h[2], s[2];
                 for (int q = 0; q < 2; ++q)
                     hsvQuarter(n32[q], v_reinterpret_as_s32(d32[q]), v_reinterpret_as_s32(v32[q]),
-                               sdiv, hdiv, h[q], s[q]);
+                               h[q], s[q]);
                 h16[half] = v_pack(h[0], h[1]);
                 s16[half] = v_pack(s[0], s[1]);
             }
