@@ -662,9 +662,9 @@ void medianOneHotRow(const uchar* const* rows, int cols, uchar* planes, uchar* d
     const int W = cols + 4;
     uchar* p[3] = { planes, planes + W, planes + 2 * W };
 #if CV_SIMD
-    if (cols >= v_uint8::nlanes)
-    {
-        const v_uint8 z = vx_setzero_u8(), one = vx_setall_u8(1);
+    const bool vectors = cols >= v_uint8::nlanes;
+    const v_uint8 z = vx_setzero_u8(), one = vx_setall_u8(1);
+    if (vectors)
         overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
             v_uint8 below[5];
             for (int k = 0; k < 5; ++k)
@@ -679,27 +679,10 @@ void medianOneHotRow(const uchar* const* rows, int cols, uchar* planes, uchar* d
             v_store(p[1] + c + 2, c1 ^ c2);
             v_store(p[2] + c + 2, c1 & c2);
         });
-        for (int k = 0; k < 3; ++k)
-        {
-            p[k][0] = p[k][1] = p[k][2];
-            p[k][cols + 2] = p[k][cols + 3] = p[k][cols + 1];
-        }
-        const v_uint8 lo7 = vx_setall_u8(0x7F), top = vx_setall_u8(0x80);
-        overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
-            v_uint8 w[5][3];
-            for (int i = 0; i < 5; ++i)
-                for (int k = 0; k < 3; ++k)
-                    w[i][k] = vx_load(p[k] + c + i);
-            const v_uint8 r = atLeast13(w[0], w[1], w[2], w[3], w[4]);
-            // the lowest set bit of r, halved; 128 where no bit is set
-            const v_uint8 low = r & v_sub_wrap(z, r);
-            const v_uint8 half = v_reinterpret_as_u8(v_reinterpret_as_u16(low) >> 1) & lo7;
-            v_store(dst + c, half | ((r == z) & top));
-        });
-        return;
-    }
+#else
+    const bool vectors = false;
 #endif
-    for (int c = 0; c < cols; ++c)
+    for (int c = 0; c < (vectors ? 0 : cols); ++c)
     {
         int below[5];
         for (int k = 0; k < 5; ++k)
@@ -719,6 +702,24 @@ void medianOneHotRow(const uchar* const* rows, int cols, uchar* planes, uchar* d
         p[k][0] = p[k][1] = p[k][2];
         p[k][cols + 2] = p[k][cols + 3] = p[k][cols + 1];
     }
+#if CV_SIMD
+    if (vectors)
+    {
+        const v_uint8 lo7 = vx_setall_u8(0x7F), top = vx_setall_u8(0x80);
+        overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
+            v_uint8 w[5][3];
+            for (int i = 0; i < 5; ++i)
+                for (int k = 0; k < 3; ++k)
+                    w[i][k] = vx_load(p[k] + c + i);
+            const v_uint8 r = atLeast13(w[0], w[1], w[2], w[3], w[4]);
+            // the lowest set bit of r, halved; 128 where no bit is set
+            const v_uint8 low = r & v_sub_wrap(z, r);
+            const v_uint8 half = v_reinterpret_as_u8(v_reinterpret_as_u16(low) >> 1) & lo7;
+            v_store(dst + c, half | ((r == z) & top));
+        });
+        return;
+    }
+#endif
     for (int c = 0; c < cols; ++c)
     {
         int w[5][3];
