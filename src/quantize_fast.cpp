@@ -409,11 +409,14 @@ static const int PROBE_DISTANCE = 65536, PROBE_DIFFERENCE = 20000;
 class NormalLabelTable
 {
 public:
+    /** An entry of a cell whose label is not known yet (a label is a byte). */
+    enum { UNKNOWN = 0x100 };
+
     NormalLabelTable() : usable_(false)
     {
-        for (int i = 0; i < NORMAL_TABLE_SIZE; ++i)
-            known_[i] = 0;
-        memset(label_, 0, sizeof(label_));
+        entry_[0].store(0, std::memory_order_relaxed); // no normal: label 0
+        for (int i = 1; i <= NORMAL_TABLE_SIZE; ++i)
+            entry_[i].store(UNKNOWN, std::memory_order_relaxed);
     }
 
     bool usable() const { return usable_; }
@@ -421,12 +424,17 @@ public:
     /** Label of a cell index; false when it is not known yet. */
     bool lookup(int cell, uchar& label) const
     {
-        if ((unsigned)cell >= (unsigned)NORMAL_TABLE_SIZE
-            || !known_[cell].load(std::memory_order_acquire))
+        if ((unsigned)cell >= (unsigned)NORMAL_TABLE_SIZE)
             return false;
-        label = label_[cell];
-        return true;
+        const unsigned e = entry(cell + 1);
+        label = (uchar)e;
+        return e != UNKNOWN;
     }
+
+    /** The entry of cell index `cell` at `cell + 1` (0: no normal, label 0), for any index in
+    [0, NORMAL_TABLE_SIZE]: the label, or UNKNOWN. One atomic word per cell: a reader meets the
+    label or UNKNOWN, never half of an update. */
+    unsigned entry(unsigned index) const { return entry_[index].load(std::memory_order_relaxed); }
 
     /** Reads the labels of the cells of these neighbourhoods (computed with the probe's
     thresholds) out of cv::linemod::DepthNormal. False when its output contradicts the layout
@@ -437,8 +445,7 @@ public:
 
 private:
     bool usable_;
-    std::atomic<uchar> known_[NORMAL_TABLE_SIZE];
-    uchar label_[NORMAL_TABLE_SIZE];
+    std::atomic<ushort> entry_[NORMAL_TABLE_SIZE + 1];
     std::mutex mutex_;
 };
 
@@ -462,7 +469,7 @@ bool NormalLabelTable::learn(const std::vector<NormalConfig>& configs_in)
             continue;
         const int cell = cellIndex(i1, i2, i3);
         if (i1 < 0 || i1 >= NORMAL_CELLS || i2 < 0 || i2 >= NORMAL_CELLS || i3 < 0
-            || i3 >= NORMAL_CELLS || known_[cell].load(std::memory_order_relaxed) || queued[cell])
+            || i3 >= NORMAL_CELLS || entry(cell + 1) != UNKNOWN || queued[cell])
             continue;
         queued[cell] = 1;
         configs.push_back(configs_in[k]);
@@ -505,8 +512,7 @@ bool NormalLabelTable::learn(const std::vector<NormalConfig>& configs_in)
                              PROBE_DIFFERENCE, j1, j2, j3)
             || cellIndex(j1, j2, j3) != cells[k])
             return false;
-        label_[cells[k]] = labels.at<uchar>(cy, cx);
-        known_[cells[k]].store(1, std::memory_order_release);
+        entry_[cells[k] + 1].store(labels.at<uchar>(cy, cx), std::memory_order_relaxed);
     }
     return true;
 }
@@ -636,14 +642,24 @@ static void normalRows(const Mat& depth, const ModalityInfo& info, const NormalL
             const int done = normalCellsRow(row + x, step, std::min(x1 - x, 256), dist, diff, ids);
             if (done == 0)
                 break;
+            unsigned any = 0; // OR of the entries: UNKNOWN when a cell was not known
             for (int k = 0; k < done; ++k)
             {
-                uchar v = 0;
-                if (ids[k] >= 0 && !t.lookup(ids[k], v))
-                    unknown.push_back(Point(x + k, y));
+                const unsigned index = (unsigned)(ids[k] + 1); // -1 (no normal): entry 0
+                const unsigned e = index <= (unsigned)NORMAL_TABLE_SIZE
+                    ? t.entry(index) : (unsigned)NormalLabelTable::UNKNOWN;
+                const uchar v = (uchar)e;
+                any |= e;
                 multi |= v & (v - 1);
                 out[x + k] = v;
             }
+            if (any & NormalLabelTable::UNKNOWN)
+                for (int k = 0; k < done; ++k)
+                {
+                    uchar v;
+                    if (ids[k] >= 0 && !t.lookup(ids[k], v))
+                        unknown.push_back(Point(x + k, y));
+                }
             x += done;
         }
         for (; x < x1; ++x)

@@ -85,6 +85,42 @@ static void markTiles(Mat& grid, int tx, int ty, Point reach, uchar bit, int l,
 // 240 x 240 region (a third of the tiles) 1.05 ms in tiles; the whole level 1.87 ms.
 static const double kWholeLevelShare = 0.5;
 
+// Spreads whole the levels below the coarsest whose tiles in `todo` (tile column, row, level)
+// cover at least kWholeLevelShare of them and whose quantized images are whole; their tiles
+// leave `todo`. Row stripes cost less than tiles of 64 pixels, whose rows are as many calls.
+static void spreadWholeLevels(ScenePyramid& scene, std::vector<Point3i>& todo)
+{
+    const int L = scene.coarsestIndex();
+    std::vector<int> tiles_of(L, 0);
+    for (size_t k = 0; k < todo.size(); ++k)
+        tiles_of[todo[k].z]++;
+    std::vector<uchar> whole(L, 0);
+    for (int l = 0; l < L; ++l)
+    {
+        if (tiles_of[l] < kWholeLevelShare * (double)scene.tiles[l].total())
+            continue;
+        LevelMaps& lm = scene.levels[l];
+        bool quantized_whole = true;
+        for (size_t i = 0; i < lm.quantized.size(); ++i)
+            quantized_whole = quantized_whole && scene.deferred[l][i].image.empty();
+        if (!quantized_whole)
+            continue;
+        for (size_t i = 0; i < lm.quantized.size(); ++i)
+        {
+            const uchar* data = lm.spread[i].data;
+            spreadLabelsFast(lm.quantized[i], lm.spread[i], lm.T, 0);
+            CV_Assert(lm.spread[i].data == data); // written in place
+        }
+        scene.tiles[l] |= ScenePyramid::TILE_MAPS;
+        whole[l] = 1;
+    }
+    size_t kept = 0;
+    for (size_t k = 0; k < todo.size(); ++k)
+        if (!whole[todo[k].z])
+            todo[kept++] = todo[k];
+    todo.resize(kept);
+}
+
 void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<Rect> >& regions)
 {
     const int TW = ScenePyramid::TILE_W, TH = ScenePyramid::TILE_H;
@@ -151,6 +187,9 @@ void prepareRefinementLevels(ScenePyramid& scene, const std::vector<std::vector<
             }
         }
     });
+    // likewise the spread images of a level whose tiles cover much of it, when the level is
+    // quantized whole (the spreading reads T - 1 pixels beyond a tile)
+    spreadWholeLevels(scene, maps_todo);
     parallel_for_(Range(0, static_cast<int>(maps_todo.size())), [&](const Range& range) {
         for (int k = range.start; k < range.end; ++k)
         {

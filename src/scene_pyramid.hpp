@@ -70,8 +70,9 @@ CV_EXPORTS void quantizeScene(const std::vector<Ptr<cv::linemod::Modality> >& mo
 
 /** Spread images of the levels below the coarsest in every tile that meets one of
 `regions[l]` (rectangles of level-l pixels, clipped to the level), computed in parallel over the
-tiles not computed yet, after the deferred quantized images of the tiles they read. Equal there
-to the full-frame computation. */
+tiles not computed yet, after the deferred quantized images of the tiles they read; a level
+whose tiles cover much of it is quantized and spread whole, in row stripes. Equal there to the
+full-frame computation. */
 CV_EXPORTS void prepareRefinementLevels(ScenePyramid& scene,
                                         const std::vector<std::vector<Rect> >& regions);
 
