@@ -79,13 +79,22 @@ ModalityInfo classifyModality(const Ptr<Modality>& modality)
 namespace {
 
 // Stripes for parallel_for_: one per thread is not enough to balance a shared machine; a stripe
-// recomputes a few context rows, so not too many either.
+// recomputes a few context rows, so not too many either; a multiple of the threads when there
+// are that many (7 equal stripes on 2 threads keep one thread busy for 4 of them).
 int stripesFor(int rows, int cols, int min_rows)
 {
     const int threads = getNumThreads();
     if (threads <= 1 || cols < 32 || rows < 2 * min_rows)
         return 1;
-    return std::max(1, std::min(rows / min_rows, 4 * threads));
+    const int n = std::max(1, std::min(rows / min_rows, 4 * threads));
+    return n >= threads ? n - n % threads : n;
+}
+
+// `n` stripes rounded up to a multiple of the threads.
+int roundUpToThreads(int n)
+{
+    const int threads = std::max(1, getNumThreads());
+    return (n + threads - 1) / threads * threads;
 }
 
 // Rows [a, b) of `src` as an image of its own (not a submatrix): OpenCV's filters then treat
@@ -253,8 +262,8 @@ void quantizeGradientLevel(const Mat& src, const Mat& mask, float weak_threshold
     // stripes whose blurred rows stay in the cache (about 192 KB), at least as many as
     // stripesFor() gives the threads
     const int cache_rows = std::max(32, (192 << 10) / (3 * (cols + 2)));
-    const int nstripes = cols >= 32
-        ? std::max(stripesFor(rows, cols, 32), (rows + cache_rows - 1) / cache_rows) : 1;
+    const int cache_stripes = roundUpToThreads((rows + cache_rows - 1) / cache_rows);
+    const int nstripes = cols >= 32 ? std::max(stripesFor(rows, cols, 32), cache_stripes) : 1;
     parallel_for_(Range(0, rows), [&](const Range& range) {
         gradientRect(src, mask, ithr, block, Rect(0, range.start, cols, range.end - range.start),
                      dst);

@@ -108,39 +108,40 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
 {
     const int L = scene.coarsestIndex();
     const int M = scene.coarsest().modalities();
-    regions.assign(L, std::vector<Rect>());
-    for (int l = 0; l < L; ++l)
-        regions[l].reserve(matches.size());
-    const std::string* last_class = 0;
-    const std::vector<TemplatePyramid>* class_templates = 0;
-    const std::vector<TemplateRecord>* class_records = 0;
-    for (size_t k = 0; k < matches.size(); ++k)
-    {
-        const cv::linemod::Match& m = matches[k];
-        if (!last_class || *last_class != m.class_id)
+    regions.assign(L, std::vector<Rect>(matches.size()));
+    // in parallel: reading the templates' records of ~1000 coarse matches misses the cache
+    parallel_for_(Range(0, (int)matches.size()), [&](const Range& range) {
+        const std::string* last_class = 0;
+        const std::vector<TemplatePyramid>* class_templates = 0;
+        const std::vector<TemplateRecord>* class_records = 0;
+        for (int k = range.start; k < range.end; ++k)
         {
-            class_templates = &pyramids.find(m.class_id)->second;
-            class_records = store.classRecords(m.class_id);
-            CV_Assert(class_records && class_records->size() == class_templates->size());
-            last_class = &m.class_id;
+            const cv::linemod::Match& m = matches[k];
+            if (!last_class || *last_class != m.class_id)
+            {
+                class_templates = &pyramids.find(m.class_id)->second;
+                class_records = store.classRecords(m.class_id);
+                CV_Assert(class_records && class_records->size() == class_templates->size());
+                last_class = &m.class_id;
+            }
+            const TemplatePyramid& tp = (*class_templates)[m.template_id];
+            // the feature extents of each level: lo at [2 l], hi at [2 l + 1]
+            const std::vector<Point>& ext = (*class_records)[m.template_id].feature_extent;
+            CV_Assert((int)ext.size() >= 2 * L);
+            int x_lo = m.x, x_hi = m.x, y_lo = m.y, y_hi = m.y;
+            for (int l = L - 1; l >= 0; --l)
+            {
+                const LevelMaps& lm = scene.levels[l];
+                const int border = 8 * lm.T;
+                int x0, x1, y0, y1;
+                refineSpan(x_lo, x_hi, border, lm.size.width - tp[l * M].width - border, lm.T,
+                           ext[2 * l].x, ext[2 * l + 1].x, x0, x1, x_lo, x_hi);
+                refineSpan(y_lo, y_hi, border, lm.size.height - tp[l * M].height - border,
+                           lm.T, ext[2 * l].y, ext[2 * l + 1].y, y0, y1, y_lo, y_hi);
+                regions[l][k] = Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+            }
         }
-        const TemplatePyramid& tp = (*class_templates)[m.template_id];
-        // the feature extents of each level: lo at [2 l], hi at [2 l + 1]
-        const std::vector<Point>& ext = (*class_records)[m.template_id].feature_extent;
-        CV_Assert((int)ext.size() >= 2 * L);
-        int x_lo = m.x, x_hi = m.x, y_lo = m.y, y_hi = m.y;
-        for (int l = L - 1; l >= 0; --l)
-        {
-            const LevelMaps& lm = scene.levels[l];
-            const int border = 8 * lm.T;
-            int x0, x1, y0, y1;
-            refineSpan(x_lo, x_hi, border, lm.size.width - tp[l * M].width - border, lm.T,
-                       ext[2 * l].x, ext[2 * l + 1].x, x0, x1, x_lo, x_hi);
-            refineSpan(y_lo, y_hi, border, lm.size.height - tp[l * M].height - border, lm.T,
-                       ext[2 * l].y, ext[2 * l + 1].y, y0, y1, y_lo, y_hi);
-            regions[l].push_back(Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1));
-        }
-    }
+    });
 }
 
 void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
