@@ -662,12 +662,23 @@ static void normalRows(const Mat& depth, const ModalityInfo& info, const NormalL
                 multi |= v & (v - 1);
                 out[x + k] = v;
             }
+            // again for the chunk's cells (another thread may have learned one since: its
+            // label is taken, the others are left for depthNormalLevel0)
             if (any & NormalLabelTable::UNKNOWN)
                 for (int k = 0; k < done; ++k)
                 {
                     uchar v;
-                    if (ids[k] >= 0 && !t.lookup(ids[k], v))
+                    if (ids[k] < 0)
+                        continue;
+                    if (t.lookup(ids[k], v))
+                    {
+                        multi |= v & (v - 1);
+                        out[x + k] = v;
+                    }
+                    else
+                    {
                         unknown.push_back(Point(x + k, y));
+                    }
                 }
             x += done;
         }
