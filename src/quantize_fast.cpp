@@ -1125,7 +1125,7 @@ void spreadLabelsFast(const Mat& src, Mat& dst, int T, int pad)
         for (int r = h0; r < h1; ++r)
         {
             memcpy(&line[0], src.ptr<uchar>(r), scols);
-            orWindowRow(&line[0], cols, T, horiz.ptr<uchar>(r - h0));
+            orRows(&line[0], 1, T, cols, horiz.ptr<uchar>(r - h0)); // along the row
         }
         for (int r = range.start; r < range.end; ++r)
         {
@@ -1177,7 +1177,7 @@ void spreadTile(const Mat& src, int T, Rect tile, Mat& spread)
     for (int r = y0; r < sy1; ++r)
     {
         memcpy(&line_buf[0], src.ptr<uchar>(r) + x0, sx1 - x0);
-        orWindowRow(&line_buf[0], w, T, &horiz_buf[(r - y0) * hstep]);
+        orRows(&line_buf[0], 1, T, w, &horiz_buf[(r - y0) * hstep]); // along the row
     }
     for (int r = y0; r < tile.y + tile.height; ++r)
         orRows(&horiz_buf[(r - y0) * hstep], hstep, std::min(T, src.rows - r), w,

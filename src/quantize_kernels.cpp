@@ -70,11 +70,6 @@ void hueBinsRow(const uchar* bgr, const uchar* mask, int cols, int smin, int vmi
     FORESTMOD_DISPATCH(hueBinsRow(bgr, mask, cols, smin, vmin, t.sdiv, t.hdiv, dst));
 }
 
-void orWindowRow(const uchar* s, int cols, int T, uchar* d)
-{
-    FORESTMOD_DISPATCH(orWindowRow(s, cols, T, d));
-}
-
 void orRows(const uchar* first, size_t step, int n, int cols, uchar* d)
 {
     FORESTMOD_DISPATCH(orRows(first, step, n, cols, d));

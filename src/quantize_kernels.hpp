@@ -37,9 +37,8 @@ the mask (may be null) is set, else 0; h, s, v as cv::cvtColor(COLOR_BGR2HSV) co
 (its 8-bit integer arithmetic, no HSV image in between). */
 CV_EXPORTS void hueBinsRow(const uchar* bgr, const uchar* mask, int cols, int smin, int vmin,
                            uchar* dst);
-/** d[c] = OR of s[c .. c + T), c < cols (s readable up to cols + T - 1). */
-void orWindowRow(const uchar* s, int cols, int T, uchar* d);
-/** d[c] = OR of the n >= 1 rows first[k * step + c], c < cols. */
+/** d[c] = OR of the n >= 1 rows first[k * step + c], c < cols (step 1: the OR of a window of
+n bytes along a row). */
 void orRows(const uchar* first, size_t step, int n, int cols, uchar* d);
 /** The 8 LINEMOD responses of a row of spread bytes: d[o][c] = 4 - the number of the label
 sets within[4 o + 0 .. 3] (the labels at circular distance <= 0 .. 3 of o) that miss s[c]

@@ -34,7 +34,6 @@ void majorityRow(const uchar* up, const uchar* mid, const uchar* dn, const uchar
                  const uchar* mask, int n, uchar* dst);
 void hueBinsRow(const uchar* bgr, const uchar* mask, int cols, int smin, int vmin,
                 const int* sdiv, const int* hdiv, uchar* dst);
-void orWindowRow(const uchar* s, int cols, int T, uchar* d);
 void orRows(const uchar* first, size_t step, int n, int cols, uchar* d);
 void responsesRow(const uchar* s, int cols, const uchar* within, const uchar* lut,
                   uchar* const* d);
@@ -404,29 +403,6 @@ void hueBinsRow(const uchar* bgr, const uchar* mask, int cols, int smin, int vmi
         if (mask && !mask[c])
             q = 0;
         dst[c] = q;
-    }
-}
-
-void orWindowRow(const uchar* s, int cols, int T, uchar* d)
-{
-#if CV_SIMD
-    if (cols >= v_uint8::nlanes)
-    {
-        overlappingVectors(cols, v_uint8::nlanes, [&](int c) {
-            v_uint8 acc = vx_load(s + c);
-            for (int k = 1; k < T; ++k)
-                acc |= vx_load(s + c + k);
-            v_store(d + c, acc);
-        });
-        return;
-    }
-#endif
-    for (int c = 0; c < cols; ++c)
-    {
-        uchar acc = 0;
-        for (int k = 0; k < T; ++k)
-            acc |= s[c + k];
-        d[c] = acc;
     }
 }
 
