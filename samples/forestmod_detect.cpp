@@ -84,8 +84,8 @@ static void drawPose(cv::Mat& img, const cv::forestmod::PoseMatch& m, const cv::
     // "#rank class similarity", and the verification score with its parts when verified
     std::string label = cv::format("#%d %s %.1f", rank, m.class_id.c_str(), m.similarity);
     if (m.verification >= 0)
-        label += cv::format(" v %.2f (c %.2f e %.2f%s)", m.verification, m.color_score,
-                            m.edge_score,
+        label += cv::format(" v %.2f (c %.2f e %.2f r %.2f%s)", m.verification, m.color_score,
+                            m.edge_score, m.region_score,
                             m.depth_score >= 0 ? cv::format(" d %.2f", m.depth_score).c_str()
                                                : "");
     cv::putText(img, label, m.box.tl() + cv::Point(0, -6), cv::FONT_HERSHEY_SIMPLEX, 0.5, colour,
@@ -283,8 +283,8 @@ int main(int argc, char** argv)
             }
             if (m.verification >= 0)
             {
-                printf(" verification %.3f (colour %.2f, edges %.2f", m.verification,
-                       m.color_score, m.edge_score);
+                printf(" verification %.3f (colour %.2f, edges %.2f, region %.2f", m.verification,
+                       m.color_score, m.edge_score, m.region_score);
                 if (m.depth_score >= 0)
                     printf(", depth %.2f", m.depth_score);
                 printf(", occluded %.2f)", m.occlusion);

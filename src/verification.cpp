@@ -20,7 +20,7 @@ namespace forestmod {
 VerificationParams::VerificationParams()
     : enabled(true), top_k(10), min_saturation(0.25), min_value(0.15), hue_tolerance(20),
       edge_distance(3), depth_tolerance(0.05), min_visible(0.5), sample_step(2),
-      w_similarity(0.2), w_color(0.5), w_edges(0.3), w_depth(0.4)
+      w_similarity(0.1), w_color(0.3), w_edges(0.3), w_depth(0.4), w_region(0.3), region_width(6)
 {
 }
 
@@ -41,6 +41,8 @@ void VerificationParams::read(const FileNode& fn)
     detail::readField(fn, "w_color", w_color);
     detail::readField(fn, "w_edges", w_edges);
     detail::readField(fn, "w_depth", w_depth);
+    detail::readField(fn, "w_region", w_region);
+    detail::readField(fn, "region_width", region_width);
 }
 
 void VerificationParams::write(FileStorage& fs) const
@@ -53,7 +55,8 @@ void VerificationParams::write(FileStorage& fs) const
     fs << "}";
     fs << "depth_tolerance" << depth_tolerance << "min_visible" << min_visible << "sample_step"
        << sample_step << "w_similarity" << w_similarity << "w_color" << w_color << "w_edges"
-       << w_edges << "w_depth" << w_depth;
+       << w_edges << "w_depth" << w_depth << "w_region" << w_region << "region_width"
+       << region_width;
 }
 
 namespace detail {
@@ -188,9 +191,13 @@ void checkVerificationParams(const VerificationParams& p)
     checkWeight(p.w_color, "w_color");
     checkWeight(p.w_edges, "w_edges");
     checkWeight(p.w_depth, "w_depth");
-    if (!(p.w_similarity + p.w_color + p.w_edges > 0))
-        CV_Error(Error::StsOutOfRange, "VerificationParams: w_similarity + w_color + w_edges must "
-                                       "be > 0");
+    checkWeight(p.w_region, "w_region");
+    if (p.region_width < 1 || p.region_width > 64)
+        CV_Error_(Error::StsOutOfRange, ("VerificationParams: region_width must be in [1, 64] px, "
+                                         "got %d", p.region_width));
+    if (!(p.w_similarity + p.w_color + p.w_edges + p.w_region > 0))
+        CV_Error(Error::StsOutOfRange, "VerificationParams: w_similarity + w_color + w_edges + "
+                                       "w_region must be > 0");
 }
 
 namespace {
@@ -412,7 +419,7 @@ static bool edgeNear(SceneEdges& edges, int x, int y, int b, int B, double r)
 // Colour and depth agreement on the interior of the drawn mask; `state` receives per interior
 // pixel 0 no sample, 1 agrees, 2 disagrees, 3 occluded (depth nearer). Returns the share of
 // visible samples whose colour agrees.
-static double scoreInterior(const Rendered& r, const Mat& scene_color, const Mat& scene_depth,
+static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scene_depth,
                             const VerificationParams& p, Mat& state, PoseMatch& m)
 {
     const Size sz = r.rect.size();
@@ -421,9 +428,8 @@ static double scoreInterior(const Rendered& r, const Mat& scene_color, const Mat
     const double tol_mm = p.depth_tolerance * r.diameter;
     const bool with_depth = !scene_depth.empty();
     const Mat depth = with_depth ? scene_depth(r.rect) : Mat();
-    Mat hsv_m, hsv_s;
+    Mat hsv_m;
     cvtColor(r.color, hsv_m, COLOR_BGR2HSV);
-    cvtColor(scene_color(r.rect), hsv_s, COLOR_BGR2HSV);
     Mat interior;
     erode(r.mask, interior, Mat(), Point(-1, -1), 2); // colours at the silhouette are mixed
     if (countNonZero(interior) == 0)
@@ -539,16 +545,72 @@ static void scoreContour(const Rendered& r, const Mat& scene_color, bool with_de
         m.occlusion = n_contour > 0 ? double(n_covered) / n_contour : 0.0;
 }
 
+// Colour bin of an HSV pixel for the region histograms: 12 hues x 2 saturations, or one of 4
+// grey levels when achromatic.
+static inline int regionBin(const uchar* hsv, int min_s, int min_v)
+{
+    if (hsv[1] < min_s || hsv[2] < min_v)
+        return 24 + (hsv[2] >> 6);
+    return (hsv[0] / 15) * 2 + (hsv[1] >= 153);
+}
+
+// The scene's colours inside the silhouette (the interior pixels not occluded) against those of
+// a ring around it: total variation distance of the two histograms.
+static void scoreRegion(const Rendered& r, const Mat& hsv_s, const Mat& state,
+                        const VerificationParams& p, PoseMatch& m)
+{
+    const int min_s = cvRound(255 * p.min_saturation), min_v = cvRound(255 * p.min_value);
+    const int near = 2, far = near + p.region_width;
+    Mat outer, inner;
+    dilate(r.mask, outer, getStructuringElement(MORPH_RECT, Size(2 * far + 1, 2 * far + 1)));
+    dilate(r.mask, inner, getStructuringElement(MORPH_RECT, Size(2 * near + 1, 2 * near + 1)));
+    const int kBins = 28;
+    int h_in[kBins] = { 0 }, h_out[kBins] = { 0 };
+    int n_in = 0, n_out = 0;
+    const int step = p.sample_step;
+    for (int y = 0; y < hsv_s.rows; y += step)
+    {
+        const uchar* hs = hsv_s.ptr<uchar>(y);
+        const uchar* st = state.ptr<uchar>(y);
+        const uchar* o = outer.ptr<uchar>(y);
+        const uchar* in = inner.ptr<uchar>(y);
+        for (int x = 0; x < hsv_s.cols; x += step)
+        {
+            if (st[x] == 1 || st[x] == 2)
+            {
+                ++h_in[regionBin(hs + 3 * x, min_s, min_v)];
+                ++n_in;
+            }
+            else if (o[x] && !in[x])
+            {
+                ++h_out[regionBin(hs + 3 * x, min_s, min_v)];
+                ++n_out;
+            }
+        }
+    }
+    if (n_in == 0 || n_out == 0)
+    {
+        m.region_score = 0;
+        return;
+    }
+    double tv = 0;
+    for (int b = 0; b < kBins; ++b)
+        tv += std::abs(h_in[b] / (double)n_in - h_out[b] / (double)n_out);
+    m.region_score = 0.5 * tv;
+}
+
 static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat& scene_depth,
                             const VerificationParams& p, PoseMatch& m)
 {
     const bool with_depth = !scene_depth.empty();
-    Mat state;
-    const double raw_colour = scoreInterior(r, scene_color, scene_depth, p, state, m);
+    Mat state, hsv_s;
+    cvtColor(scene_color(r.rect), hsv_s, COLOR_BGR2HSV);
+    const double raw_colour = scoreInterior(r, hsv_s, scene_depth, p, state, m);
     scoreContour(r, scene_color, with_depth, raw_colour, state, p, m);
-    double wsum = p.w_similarity + p.w_color + p.w_edges;
+    scoreRegion(r, hsv_s, state, p, m);
+    double wsum = p.w_similarity + p.w_color + p.w_edges + p.w_region;
     double v = p.w_similarity * m.similarity / 100.0 + p.w_color * m.color_score
-        + p.w_edges * m.edge_score;
+        + p.w_edges * m.edge_score + p.w_region * m.region_score;
     if (with_depth)
     {
         wsum += p.w_depth;
@@ -560,10 +622,10 @@ static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat
 // no evidence at all (the object is not in the image at this pose): the similarity's share only
 static void noEvidence(const VerificationParams& p, bool with_depth, PoseMatch& m)
 {
-    m.color_score = m.edge_score = m.occlusion = 0;
+    m.color_score = m.edge_score = m.occlusion = m.region_score = 0;
     m.depth_score = with_depth ? 0 : -1;
     m.verification = p.w_similarity * m.similarity / 100.0
-        / (p.w_similarity + p.w_color + p.w_edges + (with_depth ? p.w_depth : 0));
+        / (p.w_similarity + p.w_color + p.w_edges + p.w_region + (with_depth ? p.w_depth : 0));
 }
 
 } // namespace
@@ -590,7 +652,7 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
     tm.start();
     for (size_t i = 0; i < matches.size(); ++i)
         matches[i].verification = matches[i].color_score = matches[i].edge_score
-            = matches[i].depth_score = matches[i].occlusion = -1;
+            = matches[i].depth_score = matches[i].occlusion = matches[i].region_score = -1;
     // 1. the first top_k hypotheses with a pose of each class whose mesh is known
     std::vector<size_t> todo;
     std::vector<const Mesh*> meshes;

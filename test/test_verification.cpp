@@ -200,6 +200,64 @@ TEST(Forestmod_Verification, flat_picture_loses_on_depth)
     EXPECT_GT(m[1].color_score, 0.9);
 }
 
+// region_score compares the scene's colours inside the drawn silhouette with those of a ring
+// around it: the object on a plain background stands out (disjoint colours: 1), a pose on the
+// plain background (the same colours inside and out: 0) or on clutter (many colours on both
+// sides) does not.
+TEST(Forestmod_Verification, region_score_separates_the_object_from_its_surroundings)
+{
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    det->setMesh("ape", ape);
+    const Matx33d K = lmoIntrinsics();
+    const std::vector<ViewPose> views = ViewSampler(ViewSampler::Params::coarse())
+                                            .poses(Point3d(ape.center().x, ape.center().y,
+                                                           ape.center().z));
+    const ViewPose& v = views[2];
+    const Vec3d t_obj = v.t + Vec3d(-120, 0, 0), t_plain = v.t + Vec3d(0, -90, 0),
+                t_clutter = v.t + Vec3d(120, 0, 0);
+    Mat color(480, 640, CV_8UC3, Scalar(200, 60, 20)); // saturated blue: not the ape's colours
+    // clutter: random 8 x 8 blocks of every colour on the right
+    RNG rng(5);
+    for (int y = 0; y < 480; y += 8)
+        for (int x = 400; x < 640; x += 8)
+            color(Rect(x, y, 8, 8)).setTo(Scalar(rng.uniform(0, 256), rng.uniform(0, 256),
+                                                 rng.uniform(0, 256)));
+    Ptr<Renderer> r = Renderer::create(Size(640, 480));
+    Mat c, k;
+    r->render(r->addMesh(ape), v.R, t_obj, K, c, noArray(), k);
+    c.copyTo(color, k);
+    std::vector<PoseMatch> m(3);
+    const Vec3d ts[3] = { t_obj, t_plain, t_clutter };
+    for (int i = 0; i < 3; ++i)
+    {
+        m[i].class_id = "ape";
+        m[i].template_id = i;
+        m[i].similarity = 90.f;
+        m[i].has_pose = true;
+        m[i].R = v.R;
+        m[i].t = ts[i];
+    }
+    VerificationParams vp;
+    vp.w_similarity = vp.w_color = vp.w_edges = 0;
+    vp.w_region = 1; // ranked by region_score alone
+    det->verify(color, noArray(), K, m, vp);
+    ASSERT_EQ(m.size(), 3u);
+    EXPECT_EQ(m[0].template_id, 0);
+    double score[3] = { -1, -1, -1 };
+    for (int i = 0; i < 3; ++i)
+    {
+        score[m[i].template_id] = m[i].region_score;
+        EXPECT_DOUBLE_EQ(m[i].verification, m[i].region_score);
+    }
+    EXPECT_GT(score[0], 0.95) << "the ape's colours are not the background's";
+    EXPECT_EQ(score[1], 0.0) << "the plain background on both sides";
+    EXPECT_GE(score[2], 0.0);
+    EXPECT_LT(score[2], 0.5) << "clutter on both sides";
+    std::cout << "[ INFO    ] region_score object " << score[0] << ", plain " << score[1]
+              << ", clutter " << score[2] << std::endl;
+}
+
 TEST(Forestmod_Verification, verify_keeps_unverifiable_hypotheses_in_order)
 {
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
@@ -343,6 +401,8 @@ TEST(Forestmod_Verification, params_read_write)
     p.w_color = 0.5;
     p.w_edges = 0.3;
     p.w_depth = 0.6;
+    p.w_region = 0.25;
+    p.region_width = 9;
     PoseParams pp;
     pp.verification = p;
     FileStorage fs(".yml", FileStorage::WRITE | FileStorage::MEMORY);
@@ -368,6 +428,8 @@ TEST(Forestmod_Verification, params_read_write)
     EXPECT_EQ(q.w_color, p.w_color);
     EXPECT_EQ(q.w_edges, p.w_edges);
     EXPECT_EQ(q.w_depth, p.w_depth);
+    EXPECT_EQ(q.w_region, p.w_region);
+    EXPECT_EQ(q.region_width, p.region_width);
     // absent keys keep their values (files of older versions)
     FileStorage empty("{}", FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_JSON);
     VerificationParams d;
@@ -394,7 +456,13 @@ TEST(Forestmod_Verification, bad_input_raises)
     p.w_color = -1;
     EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
     p = VerificationParams();
-    p.w_similarity = p.w_color = p.w_edges = 0;
+    p.w_similarity = p.w_color = p.w_edges = p.w_region = 0;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.w_region = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.region_width = 0;
     EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
     p = VerificationParams();
     p.edge_distance = p.edge_params.max_distance;

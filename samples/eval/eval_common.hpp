@@ -140,9 +140,9 @@ struct FrameRecord
     double iou, proj, add; //!< NaN where not measured
     double verification;   //!< PoseMatch::verification of the scored hypothesis (NaN: none)
     /** verified rows: every hypothesis in the verification's order, (similarity, color_score,
-    edge_score, depth_score, occlusion, box IoU, projection error px): the features the
-    verification weights are set on (--synthetic scenes) */
-    std::vector<cv::Vec<double, 7> > hyps;
+    edge_score, depth_score, occlusion, box IoU, projection error px, region_score): the features
+    the verification weights are set on */
+    std::vector<cv::Vec<double, 8> > hyps;
     std::vector<cv::linemod::Match> top; //!< the class's best matches (up to 5), as matched
 };
 

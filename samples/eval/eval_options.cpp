@@ -88,8 +88,8 @@ static const char* const keys
       "templates (with their depth samples, used for the initial poses) are made }"
       "{verify_k        | 10       | hypotheses per object (locations after grouping the "
       "matches), verified and counted in recall@k (VerificationParams::top_k) }"
-      "{verify_weights  |          | w_similarity,w_color,w_edges,w_depth of the verification "
-      "(default: VerificationParams') }"
+      "{verify_weights  |          | w_similarity,w_color,w_edges,w_depth[,w_region] of the "
+      "verification (default: VerificationParams') }"
       "{force           |          | overwrite the --json file, heat maps and plots }";
 
 EvalOptions::EvalOptions()
@@ -295,8 +295,9 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     if (opt.verify_k < 1)
         return fail("--verify_k must be >= 1");
     if (!weights_arg.empty()
-        && (!parseNumbers(weights_arg, opt.verify_weights) || opt.verify_weights.size() != 4))
-        return fail("--verify_weights is w_similarity,w_color,w_edges,w_depth");
+        && (!parseNumbers(weights_arg, opt.verify_weights) || opt.verify_weights.size() < 4
+            || opt.verify_weights.size() > 5))
+        return fail("--verify_weights is w_similarity,w_color,w_edges,w_depth[,w_region]");
     if (sweep != "none" && sweep != "templates" && sweep != "objects" && sweep != "all")
         return fail("--sweep is none, templates, objects or all, not '" + sweep + "'");
     opt.sweep_templates = sweep == "templates" || sweep == "all";

@@ -59,8 +59,9 @@ static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::Gro
                                                         gt.R * St + gt.t));
         }
         if (record)
-            rec.hyps.push_back(cv::Vec<double, 7>(h.similarity, h.color_score, h.edge_score,
-                                                  h.depth_score, h.occlusion, iou, proj));
+            rec.hyps.push_back(cv::Vec<double, 8>(h.similarity, h.color_score, h.edge_score,
+                                                  h.depth_score, h.occlusion, iou, proj,
+                                                  h.region_score));
         hit2d = hit2d || iou >= 0.5;
         hitproj = hitproj || proj < 5.0;
         if (k > 0)
@@ -361,6 +362,8 @@ RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& fram
         ctx.verify.w_color = opt.verify_weights[1];
         ctx.verify.w_edges = opt.verify_weights[2];
         ctx.verify.w_depth = opt.verify_weights[3];
+        if (opt.verify_weights.size() > 4)
+            ctx.verify.w_region = opt.verify_weights[4];
     }
     return ctx;
 }

@@ -161,7 +161,8 @@ struct CV_EXPORTS_W_SIMPLE TemplatePose
 best hypotheses of each class, at their refined pose, are rendered (mask, colour, depth) and scored
 on evidence the LINEMOD similarity does not use; they are then ranked by the weighted sum
 verification = w_similarity * similarity / 100 + w_color * color_score + w_edges * edge_score
-(+ w_depth * depth_score with depth), the weights divided by their sum (doc/verification.md).
++ w_region * region_score (+ w_depth * depth_score with depth), the weights divided by their sum
+(doc/verification.md).
 FileStorage keys are the field names. */
 struct CV_EXPORTS_W_SIMPLE VerificationParams
 {
@@ -197,12 +198,16 @@ struct CV_EXPORTS_W_SIMPLE VerificationParams
     CV_PROP_RW double min_visible;
     /** Pixel step of the colour and depth samples inside the rendered mask. Default 2. */
     CV_PROP_RW int sample_step;
-    /** Weights of the final score, set on rendered RGB scenes (doc/verification.md; w_depth is
-    not tuned yet). */
-    CV_PROP_RW double w_similarity; //!< LINEMOD similarity / 100. Default 0.2
-    CV_PROP_RW double w_color;      //!< color_score. Default 0.5
+    /** Weights of the final score, set on real LM-O frames that the evaluation does not report
+    (doc/verification.md; w_depth is not tuned yet). */
+    CV_PROP_RW double w_similarity; //!< LINEMOD similarity / 100. Default 0.1
+    CV_PROP_RW double w_color;      //!< color_score. Default 0.3
     CV_PROP_RW double w_edges;      //!< edge_score. Default 0.3
     CV_PROP_RW double w_depth;      //!< depth_score, with depth only. Default 0.4
+    CV_PROP_RW double w_region;     //!< region_score. Default 0.3
+    /** Width (px) of the ring around the rendered silhouette whose colours region_score compares
+    with those inside it (the ring starts 2 px out: the silhouette's pixels mix both). Default 6. */
+    CV_PROP_RW int region_width;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
@@ -256,13 +261,13 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
 {
     CV_WRAP PoseMatch()
         : has_pose(false), refined(false), depth_agreement(-1), edge_fit(-1), verification(-1),
-          color_score(-1), edge_score(-1), depth_score(-1), occlusion(-1)
+          color_score(-1), edge_score(-1), depth_score(-1), occlusion(-1), region_score(-1)
     {
     }
     CV_WRAP PoseMatch(const cv::linemod::Match& m)
         : cv::linemod::Match(m), has_pose(false), refined(false), depth_agreement(-1),
           edge_fit(-1), verification(-1), color_score(-1), edge_score(-1), depth_score(-1),
-          occlusion(-1)
+          occlusion(-1), region_score(-1)
     {
     }
     CV_PROP_RW Rect box;          //!< the template's box at the match (level 0 pixels)
@@ -292,6 +297,10 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
     /** Share of the rendered object taken as occluded (depth nearer; without depth: contour
     fragments without edge whose colour disagrees). */
     CV_PROP_RW double occlusion;
+    /** How much the scene's colours inside the rendered silhouette differ from those of a ring
+    around it (total variation distance of their colour histograms, 0..1): an object stands out
+    from its surroundings, a pose on clutter straddles it. Needs no model colours. */
+    CV_PROP_RW double region_score;
 };
 
 /** @brief LINEMOD detector searched through a fuzzy template forest (Shao, Tang, Kim).
