@@ -560,10 +560,10 @@ static void scoreRegion(const Rendered& r, const Mat& hsv_s, const Mat& state,
                         const VerificationParams& p, PoseMatch& m)
 {
     const int min_s = cvRound(255 * p.min_saturation), min_v = cvRound(255 * p.min_value);
-    const int near = 2, far = near + p.region_width;
+    const int gap = 2, reach = gap + p.region_width; // the ring: gap < distance <= reach
     Mat outer, inner;
-    dilate(r.mask, outer, getStructuringElement(MORPH_RECT, Size(2 * far + 1, 2 * far + 1)));
-    dilate(r.mask, inner, getStructuringElement(MORPH_RECT, Size(2 * near + 1, 2 * near + 1)));
+    dilate(r.mask, outer, getStructuringElement(MORPH_RECT, Size(2 * reach + 1, 2 * reach + 1)));
+    dilate(r.mask, inner, getStructuringElement(MORPH_RECT, Size(2 * gap + 1, 2 * gap + 1)));
     const int kBins = 28;
     int h_in[kBins] = { 0 }, h_out[kBins] = { 0 };
     int n_in = 0, n_out = 0;
