@@ -546,12 +546,13 @@ static void scoreContour(const Rendered& r, const Mat& scene_color, bool with_de
 }
 
 // Colour bin of an HSV pixel for the region histograms: 12 hues x 2 saturations, or one of 4
-// grey levels when achromatic.
+// grey levels when achromatic (hueClass' rule).
 static inline int regionBin(const uchar* hsv, int min_s, int min_v)
 {
-    if (hsv[1] < min_s || hsv[2] < min_v)
+    const int hue = hueClass(hsv, min_s, min_v);
+    if (hue < 0)
         return 24 + (hsv[2] >> 6);
-    return (hsv[0] / 15) * 2 + (hsv[1] >= 153);
+    return (hue / 15) * 2 + (hsv[1] >= 153);
 }
 
 // The scene's colours inside the silhouette (the interior pixels not occluded) against those of

@@ -153,22 +153,32 @@ TEST(Forestmod_Verification, decoy_with_the_better_linemod_score_loses)
               << stats.t_verify_ms << " ms" << std::endl;
 }
 
-// The third view of the coarse sampler around a mesh: the pose the scenes below are drawn at.
-static ViewPose coarseView(const Mesh& mesh)
+// The ape, LM-O's intrinsics and the third view of the coarse sampler around the ape: what the
+// scenes below are drawn with.
+struct ApeView
 {
-    return ViewSampler(ViewSampler::Params::coarse())
-        .poses(Point3d(mesh.center().x, mesh.center().y, mesh.center().z))[2];
-}
+    Mesh ape;
+    Matx33d K;
+    ViewPose v;
+    ApeView()
+        : ape(Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"))),
+          K(lmoIntrinsics())
+    {
+        v = ViewSampler(ViewSampler::Params::coarse())
+                .poses(Point3d(ape.center().x, ape.center().y, ape.center().z))[2];
+    }
+};
 
 // With depth: a flat picture of the object (its colours and contour, on a plane) ranked above
 // the object by the matcher loses on the depth check.
 TEST(Forestmod_Verification, flat_picture_loses_on_depth)
 {
-    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    const ApeView scene;
+    const Mesh& ape = scene.ape;
+    const Matx33d& K = scene.K;
+    const ViewPose& v = scene.v;
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINEMOD();
     det->setMesh("ape", ape);
-    const Matx33d K = lmoIntrinsics();
-    const ViewPose v = coarseView(ape);
     const Vec3d t_obj = v.t + Vec3d(-120, 0, 0), t_pic = v.t + Vec3d(120, 0, 0);
     Ptr<Renderer> r = Renderer::create(Size(640, 480));
     const int h = r->addMesh(ape);
@@ -210,11 +220,12 @@ TEST(Forestmod_Verification, flat_picture_loses_on_depth)
 // sides) does not.
 TEST(Forestmod_Verification, region_score_separates_the_object_from_its_surroundings)
 {
-    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    const ApeView scene;
+    const Mesh& ape = scene.ape;
+    const Matx33d& K = scene.K;
+    const ViewPose& v = scene.v;
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
     det->setMesh("ape", ape);
-    const Matx33d K = lmoIntrinsics();
-    const ViewPose v = coarseView(ape);
     const Vec3d t_obj = v.t + Vec3d(-120, 0, 0), t_plain = v.t + Vec3d(0, -90, 0),
                 t_clutter = v.t + Vec3d(120, 0, 0);
     Mat color(480, 640, CV_8UC3, Scalar(200, 60, 20)); // saturated blue: not the ape's colours
