@@ -9,6 +9,8 @@
 #include "precomp.hpp"
 #include "params_io.hpp"
 #include "edge_gradient.hpp"
+#include "draw_mesh.hpp"
+#include "pose_edges.hpp"
 #include "opencv2/calib3d.hpp"
 
 namespace cv {
@@ -194,12 +196,16 @@ static inline bool sampleMap(const Mat& m, double u, double v, double& val, doub
 
 // model edge points of the object rendered at (R, t): silhouette, and colour edges / depth
 // discontinuities inside it
-static void extractEdgePoints(Renderer& renderer, int handle, const Matx33d& K, const Matx33d& R,
-                              const Vec3d& t, const EdgeRefineParams& p, std::vector<EdgePoint>& pts)
+static void extractEdgePoints(const detail::ObjectDrawer& drawer, const Matx33d& K,
+                              const Matx33d& R, const Vec3d& t, const EdgeRefineParams& p,
+                              std::vector<EdgePoint>& pts)
 {
     pts.clear();
     Mat depth, mask;
-    renderer.render(handle, R, t, K, noArray(), depth, mask);
+    Rect crop;
+    drawer.draw(K, R, t, crop, depth, mask);
+    if (mask.empty())
+        return;
     const Rect box = boundingRect(mask);
     if (box.area() < 16)
         return;
@@ -272,7 +278,7 @@ static void extractEdgePoints(Renderer& renderer, int handle, const Matx33d& K, 
         const ushort z = d.at<ushort>(k.y, k.x);
         if (z == 0)
             continue;
-        const Vec3d ray = Kinv * Vec3d(k.x + roi.x, k.y + roi.y, 1.0);
+        const Vec3d ray = Kinv * Vec3d(k.x + roi.x + crop.x, k.y + roi.y + crop.y, 1.0);
         const Vec3d pc = ray * (double)z;
         EdgePoint e;
         const Vec3d pm = Rt * (pc - t);
@@ -349,11 +355,49 @@ static double edgeCost(const std::vector<EdgePoint>& pts, const EdgeMaps& maps, 
 
 } // namespace
 
-static EdgeRefineResult refineFrom(Renderer& renderer, int handle, const EdgeMaps& maps,
+static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const EdgeMaps& maps,
                                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
                                    const EdgeRefineParams& params);
 
+namespace {
+
+// the OSMesa Renderer's drawing: the whole image
+class RendererDrawer : public detail::ObjectDrawer
+{
+public:
+    RendererDrawer(Renderer& renderer, int handle) : renderer_(renderer), handle_(handle) {}
+    Size imageSize() const CV_OVERRIDE { return renderer_.size(); }
+    void draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
+              Mat& mask) const CV_OVERRIDE
+    {
+        renderer_.render(handle_, R, t, K, noArray(), depth, mask);
+        rect = Rect(Point(), mask.size());
+    }
+
+private:
+    Renderer& renderer_;
+    const int handle_;
+};
+
+} // namespace
+
 EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps& maps,
+                                 const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
+                                 const EdgeRefineParams& params)
+{
+    return detail::refinePoseEdges(RendererDrawer(renderer, handle), maps, K, R0, t0, params);
+}
+
+namespace detail {
+
+void MeshDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
+                      Mat& mask) const
+{
+    // the crop's margin holds the refinement's 3 px around the silhouette and its blur's reach
+    drawMesh(mesh_, winding_, K, R, t, image_, 8, rect, noArray(), depth, mask);
+}
+
+EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& maps,
                                  const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
                                  const EdgeRefineParams& params)
 {
@@ -362,10 +406,10 @@ EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps&
         CV_Error_(Error::StsBadArg, ("refinePoseEdges: the edge maps have %d orientation bins but "
                                      "params.orientations is %d (computeEdgeMaps() with the same "
                                      "params)", (int)maps.distance.size(), params.orientations));
-    if (maps.distance[0].size() != renderer.size())
-        CV_Error_(Error::StsBadSize, ("refinePoseEdges: the edge maps are %dx%d but the renderer "
+    if (maps.distance[0].size() != drawer.imageSize())
+        CV_Error_(Error::StsBadSize, ("refinePoseEdges: the edge maps are %dx%d but the drawing "
                                       "is %dx%d", maps.distance[0].cols, maps.distance[0].rows,
-                                      renderer.size().width, renderer.size().height));
+                                      drawer.imageSize().width, drawer.imageSize().height));
     if (!(K(0, 0) > 0 && K(1, 1) > 0))
         CV_Error(Error::StsBadArg, "refinePoseEdges: K has no focal length");
     if (!(params.search_angle >= 0) || params.search_steps < 0 || params.hypotheses < 1)
@@ -379,7 +423,7 @@ EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps&
         // start pose, turned on a grid of +-search_angle about the camera axes, scored without
         // rendering again (the silhouette changes little within a few degrees)
         std::vector<EdgePoint> pts;
-        extractEdgePoints(renderer, handle, K, R0, t0, params, pts);
+        extractEdgePoints(drawer, K, R0, t0, params, pts);
         if (pts.size() >= 6)
         {
             for (size_t i = 0; i < pts.size(); ++i)
@@ -415,7 +459,7 @@ EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps&
     for (size_t h = 0; h < starts.size() && (int)h <= params.hypotheses; ++h)
     {
         const Matx33d& dR = starts[h].second;
-        const EdgeRefineResult r = refineFrom(renderer, handle, maps, K, dR * R0,
+        const EdgeRefineResult r = refineFrom(drawer, maps, K, dR * R0,
                                               dR * (t0 - c) + c, params);
         iterations += r.iterations;
         if (r.points > 0 && (!any || r.inlier_ratio > best.inlier_ratio))
@@ -428,7 +472,9 @@ EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps&
     return best;
 }
 
-static EdgeRefineResult refineFrom(Renderer& renderer, int handle, const EdgeMaps& maps,
+} // namespace detail
+
+static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const EdgeMaps& maps,
                                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
                                    const EdgeRefineParams& params)
 {
@@ -438,7 +484,7 @@ static EdgeRefineResult refineFrom(Renderer& renderer, int handle, const EdgeMap
     std::vector<EdgePoint> pts;
     for (int pass = 0; pass < params.passes; ++pass)
     {
-        extractEdgePoints(renderer, handle, K, res.R, res.t, params, pts);
+        extractEdgePoints(drawer, K, res.R, res.t, params, pts);
         if (pts.size() < 6)
             break;
         // rotation centre: centroid of the edge points in the camera frame
@@ -493,7 +539,7 @@ static EdgeRefineResult refineFrom(Renderer& renderer, int handle, const EdgeMap
         }
     }
     // quality at the final pose, with its own rendering
-    extractEdgePoints(renderer, handle, K, res.R, res.t, params, pts);
+    extractEdgePoints(drawer, K, res.R, res.t, params, pts);
     res.points = (int)pts.size();
     int in = 0;
     edgeCost(pts, maps, maps.max_distance, K, res.R, res.t, params.huber, Vec3d(), 0, 0, &in,

@@ -9,7 +9,8 @@
 #include "precomp.hpp"
 #include "params_io.hpp"
 #include "pose_estimator.hpp"
-#include "verification.hpp"
+#include "draw_mesh.hpp"
+#include "pose_edges.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -101,8 +102,8 @@ int PoseEstimator::meshHandle(const String& class_id, Size size)
     return hit->second;
 }
 
-const Mesh* PoseEstimator::verificationMesh(const String& class_id, double& diameter,
-                                            int& winding) const
+const Mesh* PoseEstimator::drawnMesh(const String& class_id, double& diameter,
+                                     int& winding) const
 {
     AutoLock lock(mutex_);
     std::map<String, Mesh>::const_iterator it = coarse_.find(class_id);
@@ -143,22 +144,19 @@ static void checkPoseInputs(const Mat& depth, const Matx33d& K, const PoseParams
                        frame.cols, frame.rows));
 }
 
-// The part of the colour image whose edges the refinement of the first max_per_class matches per
-// class reads.
-static Rect edgeRoi(const std::vector<PoseMatch>& matches, const PoseParams& params,
-                    Size image)
+// The part of the colour image whose edges the refinement of the matches `refine` reads.
+static Rect edgeRoi(const std::vector<PoseMatch>& matches, const std::vector<size_t>& refine,
+                    const PoseParams& params, Size image)
 {
     Rect roi;
-    std::map<String, int> count;
     const int margin = cvCeil(3 * params.edge_params.max_distance);
-    for (size_t i = 0; i < matches.size(); ++i)
-        if (matches[i].pose.valid && count[matches[i].class_id]++ < params.max_per_class)
-        {
-            const Rect b(matches[i].x - margin, matches[i].y - margin,
-                         matches[i].pose.box.width + 2 * margin,
-                         matches[i].pose.box.height + 2 * margin);
-            roi = roi.area() > 0 ? (roi | b) : b;
-        }
+    for (size_t k = 0; k < refine.size(); ++k)
+    {
+        const PoseMatch& m = matches[refine[k]];
+        const Rect b(m.x - margin, m.y - margin, m.pose.box.width + 2 * margin,
+                     m.pose.box.height + 2 * margin);
+        roi = roi.area() > 0 ? (roi | b) : b;
+    }
     return roi & Rect(0, 0, image.width, image.height);
 }
 
@@ -188,6 +186,18 @@ static void initialPoseOf(const TemplateStore& store, const Mat& depth, const Ma
     m.has_pose = true;
 }
 
+// The match's pose fields reset and its initial pose set; false when its template has no pose.
+static bool startPose(const TemplateStore& store, const Mat& depth, const Matx33d& K,
+                      PoseMatch& m)
+{
+    m.has_pose = m.refined = false;
+    m.depth_agreement = -1;
+    m.edge_fit = -1;
+    if (m.pose.valid)
+        initialPoseOf(store, depth, K, m);
+    return m.pose.valid;
+}
+
 bool PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
                                     PoseMatch& m, bool& drop)
 {
@@ -209,25 +219,36 @@ bool PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const Po
     return true;
 }
 
-bool PoseEstimator::refineWithEdges(const Mat& color, const Rect& roi, EdgeMaps& edge_maps,
-                                    const Matx33d& K, const PoseParams& params, PoseMatch& m)
+void PoseEstimator::refineWithEdges(const Mat& color, const Matx33d& K, const PoseParams& params,
+                                    std::vector<PoseMatch>& matches,
+                                    const std::vector<size_t>& refine) const
 {
-    AutoLock lock(mutex_);
-    const int handle = meshHandle(m.class_id, color.size());
-    if (handle < 0)
-        return false;
-    if (edge_maps.distance.empty())
-        computeEdgeMaps(color, edge_maps, params.edge_params, roi);
-    const EdgeRefineResult er = refinePoseEdges(*renderer_, handle, edge_maps, K, m.R, m.t,
-                                                params.edge_params);
-    if (er.points > 0)
-    {
-        m.R = er.R;
-        m.t = er.t;
-        m.refined = true;
-        m.edge_fit = er.inlier_ratio;
-    }
-    return true;
+    if (refine.empty())
+        return;
+    EdgeMaps edge_maps; // one set for all of them
+    computeEdgeMaps(color, edge_maps, params.edge_params,
+                    edgeRoi(matches, refine, params, color.size()));
+    // drawn on the CPU (drawMesh, no lock): the hypotheses refine in parallel
+    parallel_for_(Range(0, (int)refine.size()), [&](const Range& r) {
+        for (int k = r.start; k < r.end; ++k)
+        {
+            PoseMatch& m = matches[refine[k]];
+            double diameter = 0;
+            int winding = 0;
+            const Mesh* mesh = drawnMesh(m.class_id, diameter, winding);
+            CV_Assert(mesh);
+            const EdgeRefineResult er = refinePoseEdges(MeshDrawer(*mesh, winding, color.size()),
+                                                        edge_maps, K, m.R, m.t,
+                                                        params.edge_params);
+            if (er.points > 0)
+            {
+                m.R = er.R;
+                m.t = er.t;
+                m.refined = true;
+                m.edge_fit = er.inlier_ratio;
+            }
+        }
+    });
 }
 
 void PoseEstimator::estimate(const TemplateStore& store, const Mat& depth, const Matx33d& K,
@@ -235,31 +256,31 @@ void PoseEstimator::estimate(const TemplateStore& store, const Mat& depth, const
                              const Mat& color)
 {
     checkPoseInputs(depth, K, params, color, matches);
+    const bool icp = !depth.empty() && params.icp;
     const bool edges = depth.empty() && params.rgb_refine && !color.empty();
-    const Rect roi = edges ? edgeRoi(matches, params, color.size()) : Rect();
-    EdgeMaps edge_maps; // of the colour image around the matches to refine, made on first use
+    // initial poses; the first max_per_class matches of each class with a mesh are refined
     std::map<String, int> refined_per_class;
+    std::vector<size_t> refine;
+    for (size_t i = 0; i < matches.size(); ++i)
+        if (startPose(store, depth, K, matches[i]) && (icp || edges)
+            && hasMesh(matches[i].class_id)
+            && refined_per_class[matches[i].class_id]++ < params.max_per_class)
+            refine.push_back(i);
+    if (edges)
+        refineWithEdges(color, K, params, matches, refine);
+    if (!icp)
+        return;
+    std::vector<char> drop(matches.size(), 0);
+    for (size_t k = 0; k < refine.size(); ++k)
+    {
+        bool d = false;
+        refineWithDepth(depth, K, params, matches[refine[k]], d);
+        drop[refine[k]] = d;
+    }
     std::vector<PoseMatch> kept;
     for (size_t i = 0; i < matches.size(); ++i)
-    {
-        PoseMatch m = matches[i];
-        m.has_pose = m.refined = false;
-        m.depth_agreement = -1;
-        m.edge_fit = -1;
-        bool drop = false;
-        if (m.pose.valid)
-        {
-            initialPoseOf(store, depth, K, m);
-            int& done = refined_per_class[m.class_id];
-            // the first max_per_class matches of a class with a mesh are refined
-            if (done < params.max_per_class && !depth.empty() && params.icp)
-                done += refineWithDepth(depth, K, params, m, drop);
-            else if (done < params.max_per_class && edges)
-                done += refineWithEdges(color, roi, edge_maps, K, params, m);
-        }
-        if (!drop)
-            kept.push_back(m);
-    }
+        if (!drop[i])
+            kept.push_back(matches[i]);
     matches.swap(kept);
 }
 
@@ -268,6 +289,7 @@ void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vecto
                                     const PoseParams& params, const Mat& color,
                                     std::vector<PoseMatch>& detections)
 {
+    checkPoseInputs(Mat(), K, params, color, all);
     // each detection's group: itself, then the matches of its class it suppressed
     std::vector<int> group_of(all.size(), -1);
     std::vector<std::vector<PoseMatch> > groups;
@@ -283,34 +305,40 @@ void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vecto
         if (all[i].class_id == g[0].class_id && (int)g.size() < params.rgb_hypotheses)
             g.push_back(all[i]);
     }
-    detections.clear();
+    // the hypotheses of the first max_per_class groups per class, refined together (one set of
+    // edge maps, in parallel); the other groups keep their first match's template pose
     std::map<String, int> per_class;
-    PoseParams one = params;
-    one.max_per_class = params.rgb_hypotheses;
-    PoseParams plain = params;
-    plain.rgb_refine = false;
+    std::vector<PoseMatch> flat;
+    std::vector<size_t> first(groups.size() + 1, 0), refine;
     for (size_t g = 0; g < groups.size(); ++g)
     {
-        std::vector<PoseMatch>& hyps = groups[g];
-        if (per_class[hyps[0].class_id]++ >= params.max_per_class)
+        const bool refined = per_class[groups[g][0].class_id]++ < params.max_per_class;
+        if (!refined)
+            groups[g].resize(1);
+        for (size_t h = 0; h < groups[g].size(); ++h)
         {
-            hyps.resize(1);
-            estimate(store, Mat(), K, hyps, plain, Mat());
-            detections.push_back(hyps[0]);
-            continue;
+            flat.push_back(groups[g][h]);
+            if (startPose(store, Mat(), K, flat.back()) && refined && params.rgb_refine
+                && !color.empty() && hasMesh(flat.back().class_id))
+                refine.push_back(flat.size() - 1);
         }
-        estimate(store, Mat(), K, hyps, one, color);
-        size_t best = 0;
-        for (size_t h = 1; h < hyps.size(); ++h)
-            if (hyps[h].edge_fit > hyps[best].edge_fit)
+        first[g + 1] = flat.size();
+    }
+    refineWithEdges(color, K, params, flat, refine);
+    detections.clear();
+    for (size_t g = 0; g < groups.size(); ++g)
+    {
+        size_t best = first[g];
+        for (size_t h = first[g] + 1; h < first[g + 1]; ++h)
+            if (flat[h].edge_fit > flat[best].edge_fit)
                 best = h;
         // the detection keeps its position, box and score (the ranking stays the matcher's);
         // template, pose label and pose come from the chosen hypothesis
-        PoseMatch m = hyps[best];
-        m.x = hyps[0].x;
-        m.y = hyps[0].y;
-        m.similarity = hyps[0].similarity;
-        m.box = hyps[0].box;
+        PoseMatch m = flat[best];
+        m.x = flat[first[g]].x;
+        m.y = flat[first[g]].y;
+        m.similarity = flat[first[g]].similarity;
+        m.box = flat[first[g]].box;
         detections.push_back(m);
     }
 }

@@ -3,7 +3,8 @@
 // of this distribution and at http://opencv.org/license.html
 
 // Internal: what cv::linemod lacks, a 6-DoF pose per match. Owns the classes' meshes and the
-// renderer that refinement and checks draw them with.
+// OSMesa renderer of the depth refinement (ICP) and check; the edge refinement and the
+// verification draw them with drawMesh().
 
 #ifndef OPENCV_FORESTMOD_POSE_ESTIMATOR_HPP
 #define OPENCV_FORESTMOD_POSE_ESTIMATOR_HPP
@@ -41,24 +42,24 @@ public:
                          const PoseParams& params, const Mat& color,
                          std::vector<PoseMatch>& detections);
 
-    /** The mesh of a class the verification draws (coarseMesh(): vertices clustered on a grid
-    of 1/64 of the diameter), its closedWinding() and the diameter of the full mesh (mm); null
-    without one. The pointer stays valid until setMesh() is called again (which must not run
-    concurrently with detection). */
-    const Mesh* verificationMesh(const String& class_id, double& diameter, int& winding) const;
-
+    /** The mesh of a class that the verification and the edge refinement draw (coarseMesh():
+    vertices clustered on a grid of 1/64 of the diameter), its closedWinding() and the diameter
+    of the full mesh (mm); null without one. The pointer stays valid until setMesh() is called
+    again (which must not run concurrently with detection). */
+    const Mesh* drawnMesh(const String& class_id, double& diameter, int& winding) const;
 private:
     int meshHandle(const String& class_id, Size size);
     // false when the class has no mesh (the match keeps its initial pose)
     bool refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
                          PoseMatch& m, bool& drop);
-    bool refineWithEdges(const Mat& color, const Rect& roi, EdgeMaps& edge_maps,
-                         const Matx33d& K, const PoseParams& params, PoseMatch& m);
-
+    // edge alignment of matches[refine[k]] (classes with a mesh), drawn with drawMesh() in
+    // parallel, against one set of edge maps around them
+    void refineWithEdges(const Mat& color, const Matx33d& K, const PoseParams& params,
+                         std::vector<PoseMatch>& matches, const std::vector<size_t>& refine) const;
     std::map<String, Mesh> meshes_;
     std::map<String, double> diameters_;
-    std::map<String, Mesh> coarse_;       //!< verificationMesh()
-    std::map<String, int> coarse_winding_; //!< verificationMesh()
+    std::map<String, Mesh> coarse_;       //!< drawnMesh()
+    std::map<String, int> coarse_winding_; //!< drawnMesh()
 
     Ptr<Renderer> renderer_;              //!< of the last scene size
     std::map<String, int> handles_;       //!< mesh handles in renderer_

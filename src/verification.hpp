@@ -9,36 +9,11 @@
 #define OPENCV_FORESTMOD_VERIFICATION_HPP
 
 #include "pose_estimator.hpp"
+#include "draw_mesh.hpp"
 
 namespace cv {
 namespace forestmod {
 namespace detail {
-
-/** The mesh simplified by vertex clustering: vertices in the same cell of a grid of `cell` mm
-are merged into their mean (position and colour), faces that lose a corner are dropped. The
-verification draws it (LM-O's meshes have 12-46 k faces; with cells of 1/64 of the diameter,
-under 2 px at 650 mm, 11-18 k are left: the can 45.7 k -> 16.2 k, the ape hardly changes).
-cell <= 0: the mesh as it is. */
-CV_EXPORTS Mesh coarseMesh(const Mesh& mesh, double cell);
-
-/** The side of the faces that never shows: +1 when the mesh is closed (at least 99 % of its
-directed edges occur once, and their reverse once) and its faces turn counter-clockwise seen from
-outside (positive signed volume), -1 when closed and turning the other way, 0 otherwise. On a
-closed mesh the nearest surface along any ray is seen from outside, so drawMesh() skips the faces
-seen from inside. */
-CV_EXPORTS int closedWinding(const Mesh& mesh);
-
-/** The verification's drawing of a hypothesis: the mesh at (R, t) seen with K, drawn into the
-crop `rect` around its projection (the projected bounding box widened by margin, clipped to the
-image of size `image`): z-buffered triangles, a pixel is the object's when its centre is covered
-(the Renderer's rule), vertex colours interpolated without shading (hue and saturation are what
-the scores read; grey without colours), depth in mm (CV_16U), mask CV_8U. rect is empty when a
-corner of the bounding box is behind the camera or nothing projects into the image. winding:
-closedWinding() of the mesh (0 draws every face). No lock (unlike the OSMesa Renderer): the
-hypotheses are drawn in parallel. */
-CV_EXPORTS void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
-                         const Vec3d& t, Size image, int margin, Rect& rect, Mat& color,
-                         Mat& depth, Mat& mask);
 
 /** Throws a cv::Exception naming the first bad field of p. */
 void checkVerificationParams(const VerificationParams& p);

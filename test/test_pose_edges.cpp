@@ -6,6 +6,8 @@
 
 #include "test_precomp.hpp"
 #include "test_pose_common.hpp"
+#include "../src/draw_mesh.hpp"
+#include "../src/pose_edges.hpp"
 
 namespace opencv_test {
 namespace {
@@ -32,9 +34,11 @@ struct EdgeTrial
 
 /** A random view of the ape (templates' range: elevation 10-60 degrees, 600-900 mm, any in-plane
 angle, off the image centre) pasted on a real frame; the start turned by `deg` about a random axis
-through the centre and moved 10 mm; refined with `params`. */
+through the centre and moved 10 mm; refined with `params`, the object drawn by mr's renderer or by
+`drawer`. */
 static EdgeTrial runEdgeTrial(MeshRenderer& mr, RNG& rng, double deg,
-                              const EdgeRefineParams& params = EdgeRefineParams())
+                              const EdgeRefineParams& params = EdgeRefineParams(),
+                              const cv::forestmod::detail::ObjectDrawer* drawer = 0)
 {
     const Matx33d K = lmoIntrinsics();
     const Vec3d c(mr.mesh.center().x, mr.mesh.center().y, mr.mesh.center().z);
@@ -57,7 +61,8 @@ static EdgeTrial runEdgeTrial(MeshRenderer& mr, RNG& rng, double deg,
     const Vec3d t0 = dR * (t_gt - pc) + pc + dt;
     EdgeTrial tr;
     tr.before = projectionError2D(mr.mesh.vertices, K, R0, t0, R_gt, t_gt);
-    tr.res = refinePoseEdges(*mr.renderer, mr.handle, maps, K, R0, t0, params);
+    tr.res = drawer ? cv::forestmod::detail::refinePoseEdges(*drawer, maps, K, R0, t0, params)
+                    : refinePoseEdges(*mr.renderer, mr.handle, maps, K, R0, t0, params);
     tr.after = projectionError2D(mr.mesh.vertices, K, tr.res.R, tr.res.t, R_gt, t_gt);
     return tr;
 }
@@ -86,6 +91,32 @@ TEST(Forestmod_PoseEdges, refinement_recovers_pose_on_rendered_object_over_real_
     // stop in a local minimum of the clutter's edges, 7-10 px away)
     EXPECT_GE(far_start, 14);
     EXPECT_GE(good, 16);
+}
+
+// The detector refines with the coarse mesh drawn on the CPU (coarseMesh, drawMesh: no lock, the
+// hypotheses in parallel): as accurate as the OSMesa rendering of the full mesh, same trials.
+TEST(Forestmod_PoseEdges, refinement_with_the_cpu_drawing_of_the_coarse_mesh)
+{
+    using namespace cv::forestmod::detail;
+    MeshRenderer mr(apeMesh(), Size(640, 480));
+    const Mesh coarse = coarseMesh(mr.mesh, mr.mesh.diameter() / 64);
+    const MeshDrawer drawer(coarse, closedWinding(coarse), Size(640, 480));
+    RNG rng_renderer(20261122), rng_drawn(20261122);
+    const int trials = 20;
+    int good_renderer = 0, good_drawn = 0;
+    for (int i = 0; i < trials; ++i)
+    {
+        const EdgeTrial a = runEdgeTrial(mr, rng_renderer, 10.0);
+        const EdgeTrial b = runEdgeTrial(mr, rng_drawn, 10.0, EdgeRefineParams(), &drawer);
+        ASSERT_EQ(a.before, b.before) << i; // the same start
+        EXPECT_GT(b.res.points, 20) << i;
+        good_renderer += a.after < 2.0;
+        good_drawn += b.after < 2.0;
+        std::cout << "[ INFO    ] trial " << i << ": " << a.before << " px -> " << a.after
+                  << " (renderer), " << b.after << " (drawn)" << std::endl;
+    }
+    EXPECT_GE(good_drawn, 16);
+    EXPECT_GE(good_drawn, good_renderer - 1);
 }
 
 // The variant table of doc/pose.md ("Refinement without depth"):

@@ -1,0 +1,48 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: drawing a mesh on the CPU, into the crop around its projection (verification, edge
+// refinement).
+
+#ifndef OPENCV_FORESTMOD_DRAW_MESH_HPP
+#define OPENCV_FORESTMOD_DRAW_MESH_HPP
+
+#include "opencv2/forestmod/render.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+/** The mesh simplified by vertex clustering: vertices in the same cell of a grid of `cell` mm
+are merged into their mean (position and colour), faces that lose a corner are dropped. The
+verification and the edge refinement draw it (LM-O's meshes have 12-46 k faces; with cells of 1/64
+of the diameter, under 2 px at 650 mm, 11-18 k are left: the can 45.7 k -> 16.2 k, the ape hardly
+changes).
+cell <= 0: the mesh as it is. */
+CV_EXPORTS Mesh coarseMesh(const Mesh& mesh, double cell);
+
+/** The side of the faces that never shows: +1 when the mesh is closed (at least 99 % of its
+directed edges occur once, and their reverse once) and its faces turn counter-clockwise seen from
+outside (positive signed volume), -1 when closed and turning the other way, 0 otherwise. On a
+closed mesh the nearest surface along any ray is seen from outside, so drawMesh() skips the faces
+seen from inside. */
+CV_EXPORTS int closedWinding(const Mesh& mesh);
+
+/** A hypothesis drawn for the verification or the edge refinement: the mesh at (R, t) seen with K, drawn into the
+crop `rect` around its projection (the projected bounding box widened by margin, clipped to the
+image of size `image`): z-buffered triangles, a pixel is the object's when its centre is covered
+(the Renderer's rule), vertex colours interpolated without shading (hue and saturation are what
+the scores read; grey without colours; not computed for noArray()), depth in mm (CV_16U), mask CV_8U. rect is empty when a
+corner of the bounding box is behind the camera or nothing projects into the image. winding:
+closedWinding() of the mesh (0 draws every face). No lock (unlike the OSMesa Renderer): the
+hypotheses are drawn in parallel. */
+CV_EXPORTS void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
+                         const Vec3d& t, Size image, int margin, Rect& rect, OutputArray color,
+                         Mat& depth, Mat& mask);
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif
