@@ -503,7 +503,8 @@ static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const Edg
         for (int it = 0; it < params.iterations; ++it)
         {
             ++res.iterations;
-            bool accepted = false;
+            bool accepted = false, converged = false;
+            const double before = cost;
             for (int tries = 0; tries < 6 && !accepted; ++tries)
             {
                 Matx66d H = A;
@@ -530,11 +531,13 @@ static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const Edg
                     cost = edgeCost(pts, maps, dmax, K, res.R, res.t, params.huber, c, &A, &b, 0, 0,
                                     0);
                     accepted = true;
+                    // converged: the step lowered the cost by less than 0.1 %
+                    converged = before - cost < 1e-3 * before;
                 }
                 else
                     lambda *= 10;
             }
-            if (!accepted)
+            if (!accepted || converged)
                 break;
         }
     }

@@ -157,6 +157,9 @@ struct Result
     int n2d, ok2d, okproj, nadd, okadd;
     int ok2d_at10, okproj_at10; //!< any of the first 10 hypotheses (RunContext::verify.top_k)
     std::vector<double> verify; //!< verified rows: t_verify_ms of every frame
+    /** plain rows: ms per frame of the hypotheses' poses (estimatePoses of every location's
+    matches: without depth the first 8 refined by edge alignment, with depth ICP) */
+    std::vector<double> pose;
     bool with_depth;
     std::vector<FrameRecord> per_frame;
 };

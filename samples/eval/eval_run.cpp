@@ -146,6 +146,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
             groups[g].push_back(pm);
     }
     std::vector<fm::PoseMatch> top; // one hypothesis per location, in the matcher's order
+    const int64 t_pose = cv::getTickCount();
     for (size_t g = 0; g < groups.size(); ++g)
     {
         std::vector<fm::PoseMatch>& hyp = groups[g];
@@ -162,6 +163,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
             top.push_back(m);
         }
     }
+    res.pose.push_back((cv::getTickCount() - t_pose) * 1000.0 / cv::getTickFrequency());
     const double nan = std::numeric_limits<double>::quiet_NaN();
     FrameRecord rec;
     rec.scene_id = f.scene_id;

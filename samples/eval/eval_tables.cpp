@@ -206,18 +206,22 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
     printf("%s", meanRow("forestmod, 1 tree, verified", r1v).c_str());
     printf("%s", meanRow("cv::linemod, verified", rlv).c_str());
     {
-        std::vector<double> tv;
+        std::vector<double> tv, tp;
         for (size_t o = 0; o < objects.size(); ++o)
         {
             tv.insert(tv.end(), r1v[o].verify.begin(), r1v[o].verify.end());
             tv.insert(tv.end(), rlv[o].verify.begin(), rlv[o].verify.end());
+            tp.insert(tp.end(), r1[o].pose.begin(), r1[o].pose.end());
         }
         printf("\nRecall@1 (2D IoU >= 0.5, proj < 5 px) scores each detector's first hypothesis, "
                "@%d any of its first %d (locations of the object's matches, grouped at box IoU > "
                "0.5). *verified*: the same hypotheses re-ranked by Detector::verify(); T_verify "
                "(verification alone, up to %d hypotheses per object and frame): median %s ms, "
-               "max %s ms.\n", opt.verify_k, opt.verify_k, opt.verify_k,
-               num(median(tv)).c_str(), num(quantile(tv, 1)).c_str());
+               "max %s ms. T_pose (forestmod's hypotheses' poses, Detector::estimatePoses of "
+               "each location's matches: with depth ICP, without it the first 8 refined by edge "
+               "alignment): median %s ms, max %s ms.\n", opt.verify_k, opt.verify_k,
+               opt.verify_k, num(median(tv)).c_str(), num(quantile(tv, 1)).c_str(),
+               num(median(tp)).c_str(), num(quantile(tp, 1)).c_str());
     }
     printf("\nT_quant: forestmod's DetectionStats::t_quantize_ms (modalities, spreading, response "
            "maps); cv::linemod's modalities' process + pyrDown + quantize of every level, timed "
