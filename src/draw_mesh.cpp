@@ -248,6 +248,20 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
     depth.setTo(1, mask & (depth == 0));
 }
 
+void MeshDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
+                      Mat& mask) const
+{
+    // the crop's margin holds the refinement's 3 px around the silhouette and its blur's reach
+    drawMesh(mesh_, winding_, K, R, t, image_, 8, rect, noArray(), depth, mask);
+}
+
+void RendererDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect,
+                          Mat& depth, Mat& mask) const
+{
+    renderer_.render(handle_, R, t, K, noArray(), depth, mask);
+    rect = Rect(Point(), mask.size());
+}
+
 } // namespace detail
 } // namespace forestmod
 } // namespace cv

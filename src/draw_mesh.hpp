@@ -41,6 +41,53 @@ CV_EXPORTS void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const 
                          const Vec3d& t, Size image, int margin, Rect& rect, OutputArray color,
                          Mat& depth, Mat& mask);
 
+/** How the pose refinements and the depth check see the object at a pose: its depth (CV_16U,
+mm, 0 off the object) and mask (CV_8U) in the crop `rect` of the scene image (empty when nothing
+is drawn). */
+class CV_EXPORTS ObjectDrawer
+{
+public:
+    virtual ~ObjectDrawer() {}
+    /** Size of the scene image (the edge maps' size). */
+    virtual Size imageSize() const = 0;
+    virtual void draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
+                      Mat& mask) const = 0;
+};
+
+/** drawMesh() of a mesh (e.g. coarseMesh()) with its closedWinding(): no lock, so the
+hypotheses of a frame refine in parallel. The mesh must outlive the drawer. */
+class CV_EXPORTS MeshDrawer : public ObjectDrawer
+{
+public:
+    MeshDrawer(const Mesh& mesh, int winding, Size image)
+        : mesh_(mesh), winding_(winding), image_(image)
+    {
+    }
+    Size imageSize() const CV_OVERRIDE { return image_; }
+    void draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
+              Mat& mask) const CV_OVERRIDE;
+
+private:
+    const Mesh& mesh_;
+    const int winding_;
+    const Size image_;
+};
+
+/** The OSMesa Renderer's drawing of mesh `handle`: the whole image (the public refinePose(),
+refinePoseEdges() and depthCheck() take a Renderer). */
+class CV_EXPORTS RendererDrawer : public ObjectDrawer
+{
+public:
+    RendererDrawer(Renderer& renderer, int handle) : renderer_(renderer), handle_(handle) {}
+    Size imageSize() const CV_OVERRIDE { return renderer_.size(); }
+    void draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
+              Mat& mask) const CV_OVERRIDE;
+
+private:
+    Renderer& renderer_;
+    const int handle_;
+};
+
 } // namespace detail
 } // namespace forestmod
 } // namespace cv

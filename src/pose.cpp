@@ -7,6 +7,7 @@
 // ICP refinement is in icp.cpp.
 
 #include "precomp.hpp"
+#include "pose_refine.hpp"
 #include "opencv2/calib3d.hpp"
 
 #include <limits>
@@ -329,31 +330,60 @@ double boxIoU(const Rect2d& a, const Rect2d& b)
     return uni > 0 ? inter / uni : 0.0;
 }
 
-static void checkRenderer(Renderer& renderer, const Mat& scene, const char* func)
+static void checkDrawing(const detail::ObjectDrawer& drawer, const Mat& scene, const char* func)
 {
-    if (renderer.size() != scene.size())
+    if (drawer.imageSize() != scene.size())
         CV_Error_(Error::StsBadSize,
                   ("%s: the renderer makes %dx%d images but scene_depth is %dx%d", func,
-                   renderer.size().width, renderer.size().height, scene.cols, scene.rows));
+                   drawer.imageSize().width, drawer.imageSize().height, scene.cols, scene.rows));
+}
+
+// K of the crop `rect` of an image: the same rays through its pixels
+static Matx33d cropIntrinsics(const Matx33d& K, const Rect& rect)
+{
+    Matx33d Kc = K;
+    Kc(0, 2) -= rect.x * K(2, 2);
+    Kc(1, 2) -= rect.y * K(2, 2);
+    return Kc;
 }
 
 ICPResult refinePose(Renderer& renderer, int handle, InputArray scene_depth, const Matx33d& K,
                      const Matx33d& R0, const Vec3d& t0, const ICPParams& params, int passes,
                      int step)
 {
+    return detail::refinePose(detail::RendererDrawer(renderer, handle), scene_depth, K, R0, t0,
+                              params, passes, step);
+}
+
+double depthCheck(Renderer& renderer, int handle, InputArray scene_depth, const Matx33d& K,
+                  const Matx33d& R, const Vec3d& t, double tolerance_mm)
+{
+    return detail::depthCheck(detail::RendererDrawer(renderer, handle), scene_depth, K, R, t,
+                              tolerance_mm);
+}
+
+namespace detail {
+
+ICPResult refinePose(const ObjectDrawer& drawer, InputArray scene_depth, const Matx33d& K,
+                     const Matx33d& R0, const Vec3d& t0, const ICPParams& params, int passes,
+                     int step)
+{
     Mat scene = getDepth16(scene_depth, "refinePose", "scene_depth");
-    checkRenderer(renderer, scene, "refinePose");
+    checkDrawing(drawer, scene, "refinePose");
     CV_CheckGE(passes, 1, "refinePose: passes must be >= 1");
     CV_CheckGE(step, 1, "refinePose: step must be >= 1");
     ICPResult res;
     res.R = R0;
     res.t = t0;
     int iterations = 0;
-    Mat depth;
     for (int pass = 0; pass < passes; ++pass)
     {
-        renderer.render(handle, res.R, res.t, K, noArray(), depth);
-        std::vector<Point3f> pts = modelPointsFromDepth(depth, K, res.R, res.t, step);
+        Mat depth, mask;
+        Rect rect;
+        drawer.draw(K, res.R, res.t, rect, depth, mask);
+        std::vector<Point3f> pts;
+        if (!depth.empty())
+            pts = modelPointsFromDepth(depth, cropIntrinsics(K, rect), res.R, res.t, step);
         if ((int)pts.size() < params.min_correspondences)
         {
             if (pass == 0)
@@ -368,15 +398,24 @@ ICPResult refinePose(Renderer& renderer, int handle, InputArray scene_depth, con
     return res;
 }
 
-double depthCheck(Renderer& renderer, int handle, InputArray scene_depth, const Matx33d& K,
+double depthCheck(const ObjectDrawer& drawer, InputArray scene_depth, const Matx33d& K,
                   const Matx33d& R, const Vec3d& t, double tolerance_mm)
 {
     Mat scene = getDepth16(scene_depth, "depthCheck", "scene_depth");
-    checkRenderer(renderer, scene, "depthCheck");
-    Mat depth;
-    renderer.render(handle, R, t, K, noArray(), depth);
-    return depthAgreement(depth, scene, tolerance_mm);
+    checkDrawing(drawer, scene, "depthCheck");
+    Mat depth, mask;
+    Rect rect;
+    drawer.draw(K, R, t, rect, depth, mask);
+    if (depth.empty())
+    {
+        if (!(tolerance_mm > 0))
+            CV_Error(Error::StsBadArg, "depthAgreement: tolerance_mm must be > 0");
+        return 0.0;
+    }
+    return depthAgreement(depth, scene(rect), tolerance_mm);
 }
+
+} // namespace detail
 
 bool isCorrect(double error, double diameter, double k_m)
 {

@@ -9,8 +9,7 @@
 #include "precomp.hpp"
 #include "params_io.hpp"
 #include "edge_gradient.hpp"
-#include "draw_mesh.hpp"
-#include "pose_edges.hpp"
+#include "pose_refine.hpp"
 #include "opencv2/calib3d.hpp"
 
 namespace cv {
@@ -359,43 +358,15 @@ static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const Edg
                                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
                                    const EdgeRefineParams& params);
 
-namespace {
-
-// the OSMesa Renderer's drawing: the whole image
-class RendererDrawer : public detail::ObjectDrawer
-{
-public:
-    RendererDrawer(Renderer& renderer, int handle) : renderer_(renderer), handle_(handle) {}
-    Size imageSize() const CV_OVERRIDE { return renderer_.size(); }
-    void draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
-              Mat& mask) const CV_OVERRIDE
-    {
-        renderer_.render(handle_, R, t, K, noArray(), depth, mask);
-        rect = Rect(Point(), mask.size());
-    }
-
-private:
-    Renderer& renderer_;
-    const int handle_;
-};
-
-} // namespace
-
 EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps& maps,
                                  const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
                                  const EdgeRefineParams& params)
 {
-    return detail::refinePoseEdges(RendererDrawer(renderer, handle), maps, K, R0, t0, params);
+    return detail::refinePoseEdges(detail::RendererDrawer(renderer, handle), maps, K, R0, t0,
+                                   params);
 }
 
 namespace detail {
-
-void MeshDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
-                      Mat& mask) const
-{
-    // the crop's margin holds the refinement's 3 px around the silhouette and its blur's reach
-    drawMesh(mesh_, winding_, K, R, t, image_, 8, rect, noArray(), depth, mask);
-}
 
 EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& maps,
                                  const Matx33d& K, const Matx33d& R0, const Vec3d& t0,

@@ -9,8 +9,7 @@
 #include "precomp.hpp"
 #include "params_io.hpp"
 #include "pose_estimator.hpp"
-#include "draw_mesh.hpp"
-#include "pose_edges.hpp"
+#include "pose_refine.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -71,35 +70,15 @@ void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
 {
     mesh.validate();
     AutoLock lock(mutex_);
-    meshes_[class_id] = mesh;
     diameters_[class_id] = mesh.diameter();
     coarse_[class_id] = coarseMesh(mesh, diameters_[class_id] / 64);
     coarse_winding_[class_id] = closedWinding(coarse_[class_id]);
-    handles_.erase(class_id); // uploaded again on the next use
 }
 
 bool PoseEstimator::hasMesh(const String& class_id) const
 {
     AutoLock lock(mutex_);
-    return meshes_.count(class_id) > 0;
-}
-
-// The renderer handle of a class's mesh for images of `size` (-1 without a mesh); the renderer is
-// made again when the size changes. Call with mutex_ held.
-int PoseEstimator::meshHandle(const String& class_id, Size size)
-{
-    std::map<String, Mesh>::const_iterator mit = meshes_.find(class_id);
-    if (mit == meshes_.end())
-        return -1;
-    if (renderer_.empty() || renderer_->size() != size)
-    {
-        renderer_ = Renderer::create(size);
-        handles_.clear();
-    }
-    std::map<String, int>::iterator hit = handles_.find(class_id);
-    if (hit == handles_.end())
-        hit = handles_.insert(std::make_pair(class_id, renderer_->addMesh(mit->second))).first;
-    return hit->second;
+    return coarse_.count(class_id) > 0;
 }
 
 const Mesh* PoseEstimator::drawnMesh(const String& class_id, double& diameter,
@@ -198,25 +177,33 @@ static bool startPose(const TemplateStore& store, const Mat& depth, const Matx33
     return m.pose.valid;
 }
 
-bool PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
-                                    PoseMatch& m, bool& drop)
+void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
+                                    std::vector<PoseMatch>& matches,
+                                    const std::vector<size_t>& refine,
+                                    std::vector<char>& drop) const
 {
-    AutoLock lock(mutex_);
-    const int handle = meshHandle(m.class_id, depth.size());
-    if (handle < 0)
-        return false;
-    m.icp = refinePose(*renderer_, handle, depth, K, m.R, m.t, params.icp_params,
-                       params.icp_passes);
-    if (m.icp.fitness > 0)
-    {
-        m.R = m.icp.R;
-        m.t = m.icp.t;
-        m.refined = true;
-    }
-    const double tol = params.depth_check_tolerance * diameters_[m.class_id];
-    m.depth_agreement = depthCheck(*renderer_, handle, depth, K, m.R, m.t, tol);
-    drop = m.depth_agreement < params.min_depth_agreement;
-    return true;
+    // drawn on the CPU (drawMesh, no lock): the hypotheses refine in parallel
+    parallel_for_(Range(0, (int)refine.size()), [&](const Range& r) {
+        for (int k = r.start; k < r.end; ++k)
+        {
+            PoseMatch& m = matches[refine[k]];
+            double diameter = 0;
+            int winding = 0;
+            const Mesh* mesh = drawnMesh(m.class_id, diameter, winding);
+            CV_Assert(mesh);
+            const MeshDrawer drawer(*mesh, winding, depth.size());
+            m.icp = refinePose(drawer, depth, K, m.R, m.t, params.icp_params, params.icp_passes);
+            if (m.icp.fitness > 0)
+            {
+                m.R = m.icp.R;
+                m.t = m.icp.t;
+                m.refined = true;
+            }
+            const double tol = params.depth_check_tolerance * diameter;
+            m.depth_agreement = depthCheck(drawer, depth, K, m.R, m.t, tol);
+            drop[refine[k]] = m.depth_agreement < params.min_depth_agreement;
+        }
+    });
 }
 
 void PoseEstimator::refineWithEdges(const Mat& color, const Matx33d& K, const PoseParams& params,
@@ -271,12 +258,7 @@ void PoseEstimator::estimate(const TemplateStore& store, const Mat& depth, const
     if (!icp)
         return;
     std::vector<char> drop(matches.size(), 0);
-    for (size_t k = 0; k < refine.size(); ++k)
-    {
-        bool d = false;
-        refineWithDepth(depth, K, params, matches[refine[k]], d);
-        drop[refine[k]] = d;
-    }
+    refineWithDepth(depth, K, params, matches, refine, drop);
     std::vector<PoseMatch> kept;
     for (size_t i = 0; i < matches.size(); ++i)
         if (!drop[i])

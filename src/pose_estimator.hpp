@@ -2,9 +2,9 @@
 // It is subject to the license terms in the LICENSE file found in the top-level directory
 // of this distribution and at http://opencv.org/license.html
 
-// Internal: what cv::linemod lacks, a 6-DoF pose per match. Owns the classes' meshes and the
-// OSMesa renderer of the depth refinement (ICP) and check; the edge refinement and the
-// verification draw them with drawMesh().
+// Internal: what cv::linemod lacks, a 6-DoF pose per match. Owns the classes' meshes and their
+// coarse copies, which the refinements, the depth check and the verification draw with
+// drawMesh() (no OSMesa at detection time).
 
 #ifndef OPENCV_FORESTMOD_POSE_ESTIMATOR_HPP
 #define OPENCV_FORESTMOD_POSE_ESTIMATOR_HPP
@@ -48,21 +48,18 @@ public:
     again (which must not run concurrently with detection). */
     const Mesh* drawnMesh(const String& class_id, double& diameter, int& winding) const;
 private:
-    int meshHandle(const String& class_id, Size size);
-    // false when the class has no mesh (the match keeps its initial pose)
-    bool refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
-                         PoseMatch& m, bool& drop);
+    // ICP and the depth check of matches[refine[k]] (classes with a mesh), drawn with drawMesh()
+    // in parallel; drop[refine[k]] is set when the depth check fails
+    void refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
+                         std::vector<PoseMatch>& matches, const std::vector<size_t>& refine,
+                         std::vector<char>& drop) const;
     // edge alignment of matches[refine[k]] (classes with a mesh), drawn with drawMesh() in
     // parallel, against one set of edge maps around them
     void refineWithEdges(const Mat& color, const Matx33d& K, const PoseParams& params,
                          std::vector<PoseMatch>& matches, const std::vector<size_t>& refine) const;
-    std::map<String, Mesh> meshes_;
     std::map<String, double> diameters_;
     std::map<String, Mesh> coarse_;       //!< drawnMesh()
     std::map<String, int> coarse_winding_; //!< drawnMesh()
-
-    Ptr<Renderer> renderer_;              //!< of the last scene size
-    std::map<String, int> handles_;       //!< mesh handles in renderer_
     mutable Mutex mutex_;                 //!< guards all of the above
 };
 

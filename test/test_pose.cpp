@@ -4,6 +4,7 @@
 
 #include "test_precomp.hpp"
 #include "test_pose_common.hpp"
+#include "../src/pose_refine.hpp"
 
 namespace opencv_test {
 namespace {
@@ -104,7 +105,8 @@ front of a table (and an occluder), start 5 degrees and 10 mm off. ICP as a dete
 (refinePose): the model points are the visible surface rendered at the starting pose; a second
 pass re-selects them at the refined pose (the visible rim moves with the pose; doc/pose.md). */
 static IcpTrial runIcpTrial(MeshRenderer& mr, RNG& rng, double occluded,
-                            const ICPParams& params = ICPParams())
+                            const ICPParams& params = ICPParams(),
+                            const cv::forestmod::detail::ObjectDrawer* drawer = 0)
 {
     const Matx33d K = lmoIntrinsics();
     const Size size(640, 480);
@@ -119,11 +121,14 @@ static IcpTrial runIcpTrial(MeshRenderer& mr, RNG& rng, double occluded,
     const Vec3d t0 = t_gt + 10.0 * dir;
 
     // refinePose(passes = 2) is these two single passes; run them apart to report both
+    // (with `drawer`: the object drawn by it instead of mr's renderer)
+    const cv::forestmod::detail::RendererDrawer renderer(*mr.renderer, mr.handle);
+    const cv::forestmod::detail::ObjectDrawer& draw = drawer ? *drawer : renderer;
     IcpTrial tr;
-    ICPResult first = refinePose(*mr.renderer, mr.handle, scene, K, R0, t0, params, 1);
+    ICPResult first = cv::forestmod::detail::refinePose(draw, scene, K, R0, t0, params, 1);
     tr.rot_err_deg_1 = rotationErrorDeg(first.R, R_gt);
     tr.trans_err_mm_1 = cv::norm(first.t - t_gt);
-    tr.res = refinePose(*mr.renderer, mr.handle, scene, K, first.R, first.t, params, 1);
+    tr.res = cv::forestmod::detail::refinePose(draw, scene, K, first.R, first.t, params, 1);
     tr.rot_err_deg = rotationErrorDeg(tr.res.R, R_gt);
     tr.trans_err_mm = cv::norm(tr.res.t - t_gt);
     tr.add_mm = addError(mr.mesh.vertices, tr.res.R, tr.res.t, R_gt, t_gt);
@@ -164,6 +169,43 @@ TEST(Forestmod_Pose, icp_converges_on_rendered_ape_with_sensor_noise)
               << medianOf(trans) << " mm (first pass alone: " << good_1 << "/" << trials << ")"
               << std::endl;
     EXPECT_GE(good, (int)std::ceil(0.95 * trials));
+}
+
+// The detector's ICP draws the coarse mesh on the CPU (coarseMesh, drawMesh: no lock, the
+// hypotheses in parallel): as accurate as the OSMesa rendering of the full mesh, same trials.
+TEST(Forestmod_Pose, icp_with_the_cpu_drawing_of_the_coarse_mesh)
+{
+    using namespace cv::forestmod::detail;
+    MeshRenderer mr(apeMesh(), Size(640, 480));
+    const Mesh coarse = coarseMesh(mr.mesh, mr.mesh.diameter() / 64);
+    const MeshDrawer drawer(coarse, closedWinding(coarse), Size(640, 480));
+    RNG rng_renderer(20161025), rng_drawn(20161025);
+    const int trials = 30;
+    int good_renderer = 0, good_drawn = 0;
+    for (int i = 0; i < trials; ++i)
+    {
+        const IcpTrial a = runIcpTrial(mr, rng_renderer, 0.0);
+        const IcpTrial b = runIcpTrial(mr, rng_drawn, 0.0, ICPParams(), &drawer);
+        good_renderer += a.rot_err_deg <= 0.5 && a.trans_err_mm <= 1.0;
+        good_drawn += b.rot_err_deg <= 0.5 && b.trans_err_mm <= 1.0;
+        EXPECT_GT(b.res.fitness, 0.5) << i;
+    }
+    std::cout << "[ INFO    ] ICP, no clutter: " << good_renderer << " / " << trials
+              << " within 1 mm and 0.5 deg (renderer), " << good_drawn << " (drawn)" << std::endl;
+    EXPECT_GE(good_drawn, (int)std::ceil(0.93 * trials));
+    EXPECT_GE(good_drawn, good_renderer - 1);
+    // the depth check of the drawing agrees with the renderer's
+    const Matx33d K = lmoIntrinsics();
+    RNG rng(17);
+    const Matx33d R = uniformRotation(rng);
+    const Vec3d t(0, 0, 750);
+    const Mat occl = makeScene(mr, R, t, K, Size(640, 480), 0.3, rng);
+    const double tol = 0.05 * kApeDiameter;
+    EXPECT_NEAR(depthCheck(drawer, occl, K, R, t, tol),
+                depthCheck(*mr.renderer, mr.handle, occl, K, R, t, tol), 0.02);
+    EXPECT_LT(depthCheck(drawer, occl, K, R, t + Vec3d(0, 0, 30), tol), 0.1);
+    EXPECT_THROW(depthCheck(drawer, Mat(240, 320, CV_16UC1, Scalar(1)), K, R, t, tol),
+                 cv::Exception);
 }
 
 TEST(Forestmod_Pose, icp_robust_to_30_percent_occlusion)

@@ -6,8 +6,7 @@
 
 #include "test_precomp.hpp"
 #include "test_pose_common.hpp"
-#include "../src/draw_mesh.hpp"
-#include "../src/pose_edges.hpp"
+#include "../src/pose_refine.hpp"
 
 namespace opencv_test {
 namespace {

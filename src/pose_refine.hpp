@@ -1,0 +1,38 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: the pose refinements (ICP with depth, edge alignment without) and the depth check
+// with the object drawn by an ObjectDrawer, e.g. on the CPU by drawMesh() without the OSMesa
+// Renderer's lock, so that a frame's hypotheses refine in parallel.
+
+#ifndef OPENCV_FORESTMOD_POSE_REFINE_HPP
+#define OPENCV_FORESTMOD_POSE_REFINE_HPP
+
+#include "opencv2/forestmod/pose.hpp"
+#include "draw_mesh.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+/** refinePoseEdges() with the object drawn by `drawer`. */
+CV_EXPORTS EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& maps,
+                                            const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
+                                            const EdgeRefineParams& params);
+
+/** refinePose() (render, back-project, ICP; `passes` times) with the object drawn by
+`drawer`. */
+CV_EXPORTS ICPResult refinePose(const ObjectDrawer& drawer, InputArray scene_depth,
+                                const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
+                                const ICPParams& params, int passes, int step = 1);
+
+/** depthCheck() with the object drawn by `drawer`. */
+CV_EXPORTS double depthCheck(const ObjectDrawer& drawer, InputArray scene_depth, const Matx33d& K,
+                             const Matx33d& R, const Vec3d& t, double tolerance_mm);
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif
