@@ -18,7 +18,7 @@ namespace forestmod {
 EdgeRefineParams::EdgeRefineParams()
     : orientations(16), canny_low(30), canny_high(80), max_distance(15), passes(4),
       iterations(15), max_points(400), huber(2), inlier_distance(2), inner_edges(false),
-      search_angle(12), search_steps(3), hypotheses(3)
+      search_angle(0), search_steps(3), hypotheses(3)
 {
 }
 

@@ -111,8 +111,8 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     const bool use_depth = ctx.use_depth;
     fm::PoseParams pp;
     pp.rgb_refine = ctx.rgb_refine;
-    if (!ctx.rgb_grid)
-        pp.edge_params.search_angle = 0;
+    if (ctx.rgb_grid)
+        pp.edge_params.search_angle = 12;
     // RGB-D: a location's first max_per_class matches go through ICP and the depth check, the
     // first one left is its hypothesis (LINEMOD ACCV 2012's post-processing). RGB: refined, the
     // pose is chosen among the matches of the class overlapping the location's first (as
