@@ -177,6 +177,14 @@ static bool startPose(const TemplateStore& store, const Mat& depth, const Matx33
     return m.pose.valid;
 }
 
+MeshDrawer PoseEstimator::drawerOf(const String& class_id, Size size, double& diameter) const
+{
+    int winding = 0;
+    const Mesh* mesh = drawnMesh(class_id, diameter, winding);
+    CV_Assert(mesh);
+    return MeshDrawer(*mesh, winding, size);
+}
+
 void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
                                     std::vector<PoseMatch>& matches,
                                     const std::vector<size_t>& refine,
@@ -188,10 +196,7 @@ void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const Po
         {
             PoseMatch& m = matches[refine[k]];
             double diameter = 0;
-            int winding = 0;
-            const Mesh* mesh = drawnMesh(m.class_id, diameter, winding);
-            CV_Assert(mesh);
-            const MeshDrawer drawer(*mesh, winding, depth.size());
+            const MeshDrawer drawer = drawerOf(m.class_id, depth.size(), diameter);
             m.icp = refinePose(drawer, depth, K, m.R, m.t, params.icp_params, params.icp_passes);
             if (m.icp.fitness > 0)
             {
@@ -221,10 +226,8 @@ void PoseEstimator::refineWithEdges(const Mat& color, const Matx33d& K, const Po
         {
             PoseMatch& m = matches[refine[k]];
             double diameter = 0;
-            int winding = 0;
-            const Mesh* mesh = drawnMesh(m.class_id, diameter, winding);
-            CV_Assert(mesh);
-            const EdgeRefineResult er = refinePoseEdges(MeshDrawer(*mesh, winding, color.size()),
+            const EdgeRefineResult er = refinePoseEdges(drawerOf(m.class_id, color.size(),
+                                                                 diameter),
                                                         edge_maps, K, m.R, m.t,
                                                         params.edge_params);
             if (er.points > 0)

@@ -10,6 +10,7 @@
 #define OPENCV_FORESTMOD_POSE_ESTIMATOR_HPP
 
 #include "template_store.hpp"
+#include "draw_mesh.hpp"
 
 #include <map>
 
@@ -48,6 +49,9 @@ public:
     again (which must not run concurrently with detection). */
     const Mesh* drawnMesh(const String& class_id, double& diameter, int& winding) const;
 private:
+    // the drawing of a class's coarse mesh for images of `size` (the class has a mesh) and the
+    // full mesh's diameter
+    MeshDrawer drawerOf(const String& class_id, Size size, double& diameter) const;
     // ICP and the depth check of matches[refine[k]] (classes with a mesh), drawn with drawMesh()
     // in parallel; drop[refine[k]] is set when the depth check fails
     void refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
