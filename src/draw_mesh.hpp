@@ -29,14 +29,14 @@ closed mesh the nearest surface along any ray is seen from outside, so drawMesh(
 seen from inside. */
 CV_EXPORTS int closedWinding(const Mesh& mesh);
 
-/** A hypothesis drawn for the verification or the edge refinement: the mesh at (R, t) seen with K, drawn into the
-crop `rect` around its projection (the projected bounding box widened by margin, clipped to the
-image of size `image`): z-buffered triangles, a pixel is the object's when its centre is covered
-(the Renderer's rule), vertex colours interpolated without shading (hue and saturation are what
-the scores read; grey without colours; not computed for noArray()), depth in mm (CV_16U), mask CV_8U. rect is empty when a
-corner of the bounding box is behind the camera or nothing projects into the image. winding:
-closedWinding() of the mesh (0 draws every face). No lock (unlike the OSMesa Renderer): the
-hypotheses are drawn in parallel. */
+/** A hypothesis drawn for the verification or the pose refinements: the mesh at (R, t) seen
+with K, drawn into the crop `rect` around its projection (the projected bounding box widened by
+margin, clipped to the image of size `image`): z-buffered triangles, a pixel is the object's when
+its centre is covered (the Renderer's rule), vertex colours interpolated without shading (hue and
+saturation are what the scores read; grey without colours; not computed for noArray()), depth in
+mm (CV_16U), mask CV_8U. rect is empty when a corner of the bounding box is behind the camera or
+nothing projects into the image. winding: closedWinding() of the mesh (0 draws every face). No
+lock (unlike the OSMesa Renderer): the hypotheses are drawn in parallel. */
 CV_EXPORTS void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
                          const Vec3d& t, Size image, int margin, Rect& rect, OutputArray color,
                          Mat& depth, Mat& mask);
