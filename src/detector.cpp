@@ -372,15 +372,53 @@ bool Detector::hasMesh(const String& class_id) const
 void Detector::estimatePoses(InputArray depth, const Matx33d& K, std::vector<PoseMatch>& matches,
                              const PoseParams& params, InputArray color) const
 {
-    impl_->poses.estimate(impl_->store, depth.getMat(), K, matches, params, color.getMat());
+    EdgeMaps edge_maps;
+    estimatePoses(depth, K, matches, params, color, edge_maps);
+}
+
+void Detector::estimatePoses(InputArray depth, const Matx33d& K, std::vector<PoseMatch>& matches,
+                             const PoseParams& params, InputArray color,
+                             EdgeMaps& edge_maps) const
+{
+    impl_->poses.estimate(impl_->store, depth.getMat(), K, matches, params, color.getMat(),
+                          edge_maps);
 }
 
 void Detector::verify(InputArray color, InputArray depth, const Matx33d& K,
                       std::vector<PoseMatch>& matches, const VerificationParams& params,
                       DetectionStats* stats) const
 {
-    detail::verifyHypotheses(impl_->poses, color.getMat(), depth.getMat(), K, matches, params,
+    detail::verifyHypotheses(impl_->poses, color.getMat(), depth.getMat(), K, matches, params, 0,
                              stats);
+}
+
+void Detector::verify(InputArray color, InputArray depth, const Matx33d& K,
+                      std::vector<PoseMatch>& matches, const VerificationParams& params,
+                      DetectionStats* stats, const EdgeMaps& edge_maps) const
+{
+    detail::verifyHypotheses(impl_->poses, color.getMat(), depth.getMat(), K, matches, params,
+                             &edge_maps, stats);
+}
+
+// the verification reads the pose stage's edge maps when they were made with its edge parameters
+static bool sameEdges(const EdgeRefineParams& a, const EdgeRefineParams& b)
+{
+    return a.orientations == b.orientations && a.canny_low == b.canny_low
+        && a.canny_high == b.canny_high;
+}
+
+// the verification of detect(): with the frame's edge maps when the pose stage made usable ones
+static void verifyDetections(const Detector& det, const Mat& color, const Mat& depth,
+                             const Matx33d& K, std::vector<PoseMatch>& matches,
+                             const PoseParams& params, const EdgeMaps& edge_maps,
+                             DetectionStats* stats)
+{
+    const VerificationParams& vp = params.verification;
+    if (!edge_maps.distance.empty() && sameEdges(params.edge_params, vp.edge_params)
+        && edge_maps.max_distance >= vp.edge_distance)
+        det.verify(color, depth, K, matches, vp, stats, edge_maps);
+    else
+        det.verify(color, depth, K, matches, vp, stats);
 }
 
 void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
@@ -410,9 +448,10 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
     if (!choose)
     {
         match(sources, threshold, matches, class_ids, std::vector<Mat>(), stats);
-        estimatePoses(depth, K, matches, params, color);
+        EdgeMaps edge_maps;
+        estimatePoses(depth, K, matches, params, color, edge_maps);
         if (params.verification.enabled && !color.empty())
-            verify(color, depth, K, matches, params.verification, stats);
+            verifyDetections(*this, color, depth, K, matches, params, edge_maps, stats);
         return;
     }
     // without depth: each detection's pose is chosen among the matches it suppresses
@@ -426,9 +465,11 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
     std::vector<PoseMatch> hypotheses;
     for (size_t i = 0; i < all.size(); ++i)
         hypotheses.push_back(detail::toPoseMatch(all[i], class_templates, impl_->store));
-    impl_->poses.chooseByEdgeFit(impl_->store, hypotheses, leader, K, params, color, matches);
+    EdgeMaps edge_maps;
+    impl_->poses.chooseByEdgeFit(impl_->store, hypotheses, leader, K, params, color, matches,
+                                 edge_maps);
     if (params.verification.enabled)
-        verify(color, depth, K, matches, params.verification, stats);
+        verifyDetections(*this, color, depth, K, matches, params, edge_maps, stats);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -213,12 +213,12 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
         const float area = signedArea(a, b, c);
         if (std::abs(area) < 1e-12f || area * inside_sign > 0)
             continue;
-        const int ux0 = std::max(0, (int)std::ceil(std::min(a[0], std::min(b[0], c[0]))));
+        const int ux0 = std::max(0, cvCeil(std::min(a[0], std::min(b[0], c[0]))));
         const int ux1 = std::min(sz.width - 1,
-                                 (int)std::floor(std::max(a[0], std::max(b[0], c[0]))));
-        const int vy0 = std::max(0, (int)std::ceil(std::min(a[1], std::min(b[1], c[1]))));
+                                 cvFloor(std::max(a[0], std::max(b[0], c[0]))));
+        const int vy0 = std::max(0, cvCeil(std::min(a[1], std::min(b[1], c[1]))));
         const int vy1 = std::min(sz.height - 1,
-                                 (int)std::floor(std::max(a[1], std::max(b[1], c[1]))));
+                                 cvFloor(std::max(a[1], std::max(b[1], c[1]))));
         if (ux0 > ux1 || vy0 > vy1)
             continue;
         const float inv = 1.f / area;

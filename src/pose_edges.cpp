@@ -368,19 +368,28 @@ EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps&
 
 namespace detail {
 
+void checkEdgeMaps(const EdgeMaps& maps, int orientations, Size image, const char* who)
+{
+    if ((int)maps.distance.size() != orientations)
+        CV_Error_(Error::StsBadArg, ("%s: the edge maps have %d orientation bins but "
+                                     "the params' orientations are %d (computeEdgeMaps() with the "
+                                     "same params)", who, (int)maps.distance.size(),
+                                     orientations));
+    for (size_t b = 0; b < maps.distance.size(); ++b)
+        if (maps.distance[b].type() != CV_32FC1 || maps.distance[b].size() != image)
+            CV_Error_(Error::StsBadSize, ("%s: the edge maps must be CV_32FC1 of the image's size "
+                                          "%dx%d (computeEdgeMaps() of that image); map %d is %s "
+                                          "%dx%d", who, image.width, image.height, (int)b,
+                                          typeToString(maps.distance[b].type()).c_str(),
+                                          maps.distance[b].cols, maps.distance[b].rows));
+}
+
 EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& maps,
                                  const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
                                  const EdgeRefineParams& params)
 {
     checkEdgeParams(params, "refinePoseEdges");
-    if ((int)maps.distance.size() != params.orientations)
-        CV_Error_(Error::StsBadArg, ("refinePoseEdges: the edge maps have %d orientation bins but "
-                                     "params.orientations is %d (computeEdgeMaps() with the same "
-                                     "params)", (int)maps.distance.size(), params.orientations));
-    if (maps.distance[0].size() != drawer.imageSize())
-        CV_Error_(Error::StsBadSize, ("refinePoseEdges: the edge maps are %dx%d but the drawing "
-                                      "is %dx%d", maps.distance[0].cols, maps.distance[0].rows,
-                                      drawer.imageSize().width, drawer.imageSize().height));
+    checkEdgeMaps(maps, params.orientations, drawer.imageSize(), "refinePoseEdges");
     if (!(K(0, 0) > 0 && K(1, 1) > 0))
         CV_Error(Error::StsBadArg, "refinePoseEdges: K has no focal length");
     if (!(params.search_angle >= 0) || params.search_steps < 0 || params.hypotheses < 1)

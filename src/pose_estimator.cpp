@@ -213,13 +213,13 @@ void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const Po
 
 void PoseEstimator::refineWithEdges(const Mat& color, const Matx33d& K, const PoseParams& params,
                                     std::vector<PoseMatch>& matches,
-                                    const std::vector<size_t>& refine) const
+                                    const std::vector<size_t>& refine, EdgeMaps& edge_maps) const
 {
     if (refine.empty())
         return;
-    EdgeMaps edge_maps; // one set for all of them
-    computeEdgeMaps(color, edge_maps, params.edge_params,
-                    edgeRoi(matches, refine, params, color.size()));
+    if (edge_maps.distance.empty()) // one set for all of them (refinePoseEdges checks given ones)
+        computeEdgeMaps(color, edge_maps, params.edge_params,
+                        edgeRoi(matches, refine, params, color.size()));
     // drawn on the CPU (drawMesh, no lock): the hypotheses refine in parallel
     parallel_for_(Range(0, (int)refine.size()), [&](const Range& r) {
         for (int k = r.start; k < r.end; ++k)
@@ -243,7 +243,7 @@ void PoseEstimator::refineWithEdges(const Mat& color, const Matx33d& K, const Po
 
 void PoseEstimator::estimate(const TemplateStore& store, const Mat& depth, const Matx33d& K,
                              std::vector<PoseMatch>& matches, const PoseParams& params,
-                             const Mat& color)
+                             const Mat& color, EdgeMaps& edge_maps)
 {
     checkPoseInputs(depth, K, params, color, matches);
     const bool icp = !depth.empty() && params.icp;
@@ -257,7 +257,7 @@ void PoseEstimator::estimate(const TemplateStore& store, const Mat& depth, const
             && refined_per_class[matches[i].class_id]++ < params.max_per_class)
             refine.push_back(i);
     if (edges)
-        refineWithEdges(color, K, params, matches, refine);
+        refineWithEdges(color, K, params, matches, refine, edge_maps);
     if (!icp)
         return;
     std::vector<char> drop(matches.size(), 0);
@@ -272,7 +272,7 @@ void PoseEstimator::estimate(const TemplateStore& store, const Mat& depth, const
 void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vector<PoseMatch>& all,
                                     const std::vector<int>& leader, const Matx33d& K,
                                     const PoseParams& params, const Mat& color,
-                                    std::vector<PoseMatch>& detections)
+                                    std::vector<PoseMatch>& detections, EdgeMaps& edge_maps)
 {
     checkPoseInputs(Mat(), K, params, color, all);
     // each detection's group: itself, then the matches of its class it suppressed
@@ -309,7 +309,7 @@ void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vecto
         }
         first[g + 1] = flat.size();
     }
-    refineWithEdges(color, K, params, flat, refine);
+    refineWithEdges(color, K, params, flat, refine, edge_maps);
     detections.clear();
     for (size_t g = 0; g < groups.size(); ++g)
     {

@@ -29,19 +29,22 @@ public:
     bool hasMesh(const String& class_id) const;
 
     /** Detector::estimatePoses: initial pose from the template's label (and the scene depth under
-    its depth samples), ICP with depth, edge alignment without; depth check and drop. */
+    its depth samples), ICP with depth, edge alignment without; depth check and drop. The edge
+    alignment reads edge_maps when they are not empty, else computes them around the refined
+    matches into it. */
     void estimate(const TemplateStore& store, const Mat& depth, const Matx33d& K,
                   std::vector<PoseMatch>& matches, const PoseParams& params,
-                  const Mat& color);
+                  const Mat& color, EdgeMaps& edge_maps);
 
     /** Detector::detect without depth: `all` are the matches before non-maximum suppression
     (best first) and `leader` its result (nonMaximumSuppression). Each kept detection of the best
     max_per_class per class takes the pose of the best edge fit among up to rgb_hypotheses
-    matches of its class that it suppressed (itself first); the others their template's pose. */
+    matches of its class that it suppressed (itself first); the others their template's pose.
+    edge_maps as for estimate(). */
     void chooseByEdgeFit(const TemplateStore& store, const std::vector<PoseMatch>& all,
                          const std::vector<int>& leader, const Matx33d& K,
                          const PoseParams& params, const Mat& color,
-                         std::vector<PoseMatch>& detections);
+                         std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);
 
     /** The mesh of a class that the verification and the edge refinement draw (coarseMesh():
     vertices clustered on a grid of 1/64 of the diameter), its closedWinding() and the diameter
@@ -58,9 +61,10 @@ private:
                          std::vector<PoseMatch>& matches, const std::vector<size_t>& refine,
                          std::vector<char>& drop) const;
     // edge alignment of matches[refine[k]] (classes with a mesh), drawn with drawMesh() in
-    // parallel, against one set of edge maps around them
+    // parallel, against one set of edge maps: edge_maps if not empty, else made around them
     void refineWithEdges(const Mat& color, const Matx33d& K, const PoseParams& params,
-                         std::vector<PoseMatch>& matches, const std::vector<size_t>& refine) const;
+                         std::vector<PoseMatch>& matches, const std::vector<size_t>& refine,
+                         EdgeMaps& edge_maps) const;
     std::map<String, double> diameters_;
     std::map<String, Mesh> coarse_;       //!< drawnMesh()
     std::map<String, int> coarse_winding_; //!< drawnMesh()

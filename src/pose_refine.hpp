@@ -16,6 +16,11 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
+/** Throws a cv::Exception (its message starting with `who`) unless `maps` hold one CV_32FC1
+distance map per orientation bin, each of size `image`: computeEdgeMaps() of that image with
+`orientations` bins. */
+void checkEdgeMaps(const EdgeMaps& maps, int orientations, Size image, const char* who);
+
 /** refinePoseEdges() with the object drawn by `drawer`. */
 CV_EXPORTS EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& maps,
                                             const Matx33d& K, const Matx33d& R0, const Vec3d& t0,

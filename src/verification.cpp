@@ -11,6 +11,7 @@
 #include "params_io.hpp"
 #include "verification.hpp"
 #include "edge_gradient.hpp"
+#include "pose_refine.hpp"
 
 #include <map>
 
@@ -120,20 +121,51 @@ struct Rendered
     double diameter;
 };
 
-// The scene's edges in a crop (Canny with the refinement's thresholds) and their orientation bins
-// (the orientation of the strongest channel's gradient, as computeEdgeMaps), each computed the
-// first time a contour point looks at it: the contour's neighbourhood holds a few of the edges.
+// The scene's edges around a crop: read from the frame's edge maps when the pose stage made them
+// (distance to an edge of a bin or its neighbours), else Canny on the crop with the refinement's
+// thresholds, each pixel's orientation bin (that of the strongest channel's gradient, as
+// computeEdgeMaps) computed the first time a contour point looks at it.
 class SceneEdges
 {
 public:
-    SceneEdges(const Mat& color, const EdgeRefineParams& ep)
-        : sobel_(color), orientations_(ep.orientations)
+    SceneEdges(const Mat& color, const Rect& crop, const EdgeMaps* maps,
+               const EdgeRefineParams& ep)
+        : crop_(crop), maps_(maps), sobel_(color(crop)),
+          orientations_(ep.orientations)
     {
-        Canny(color, bins_, ep.canny_low, ep.canny_high, 3, true);
+        if (maps)
+            return;
+        Canny(color(crop), bins_, ep.canny_low, ep.canny_high, 3, true);
         bins_.setTo(kUnknown, bins_);
         bins_.setTo(kNone, bins_ == 0);
     }
-    // the orientation bin of the edge at (x, y), kNone without one
+    // a scene edge of orientation bin b (or a neighbouring one) within radius r of crop pixel
+    // (x, y)
+    bool near(int x, int y, int b, double r)
+    {
+        if (maps_)
+            return maps_->distance[b].at<float>(y + crop_.y, x + crop_.x) <= r;
+        const int R = cvCeil(r), B = orientations_;
+        const double r2 = r * r;
+        for (int v = std::max(0, y - R); v <= std::min(bins_.rows - 1, y + R); ++v)
+        {
+            for (int u = std::max(0, x - R); u <= std::min(bins_.cols - 1, x + R); ++u)
+            {
+                if ((u - x) * (u - x) + (v - y) * (v - y) > r2)
+                    continue;
+                const int e = bin(u, v);
+                if (e == kNone)
+                    continue;
+                const int d = std::abs(e - b);
+                if (std::min(d, B - d) <= 1)
+                    return true;
+            }
+        }
+        return false;
+    }
+
+private:
+    // the orientation bin of the crop's edge at (x, y), kNone without one
     int bin(int x, int y)
     {
         uchar& b = bins_.at<uchar>(y, x);
@@ -145,10 +177,9 @@ public:
         }
         return b;
     }
-    Size size() const { return bins_.size(); }
     static const uchar kNone = 255, kUnknown = 254;
-
-private:
+    const Rect crop_;
+    const EdgeMaps* maps_;
     const PointSobel sobel_;
     const int orientations_;
     Mat bins_;
@@ -167,29 +198,6 @@ static inline bool colourAgrees(int hm, int hs, int tol)
     int d = std::abs(hm - hs);
     d = std::min(d, 180 - d);
     return d <= tol;
-}
-
-// a scene edge of orientation bin b (or a neighbouring one) within radius r of (x, y)
-static bool edgeNear(SceneEdges& edges, int x, int y, int b, int B, double r)
-{
-    const int R = cvCeil(r);
-    const double r2 = r * r;
-    const Size sz = edges.size();
-    for (int v = std::max(0, y - R); v <= std::min(sz.height - 1, y + R); ++v)
-    {
-        for (int u = std::max(0, x - R); u <= std::min(sz.width - 1, x + R); ++u)
-        {
-            if ((u - x) * (u - x) + (v - y) * (v - y) > r2)
-                continue;
-            const int e = edges.bin(u, v);
-            if (e == SceneEdges::kNone)
-                continue;
-            const int d = std::abs(e - b);
-            if (std::min(d, B - d) <= 1)
-                return true;
-        }
-    }
-    return false;
 }
 
 // Colour and depth agreement on the interior of the drawn mask; `state` receives per interior
@@ -263,13 +271,12 @@ static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scen
 
 // The whole drawn contour against the scene's edges of its orientation; a contour point without
 // an edge is excused when the pixels around it say it is covered (`state` of scoreInterior).
-static void scoreContour(const Rendered& r, const Mat& scene_color, bool with_depth,
-                         double raw_colour, const Mat& state, const VerificationParams& p,
-                         PoseMatch& m)
+static void scoreContour(const Rendered& r, const Mat& scene_color, const EdgeMaps* maps,
+                         bool with_depth, double raw_colour, const Mat& state,
+                         const VerificationParams& p, PoseMatch& m)
 {
     const Size sz = r.rect.size();
-    const Mat scene_crop = scene_color(r.rect);
-    SceneEdges edges(scene_crop, p.edge_params);
+    SceneEdges edges(scene_color, r.rect, maps, p.edge_params);
     const int B = p.edge_params.orientations;
     Mat inner, contour, blurred;
     erode(r.mask, inner, Mat(), Point(-1, -1), 1);
@@ -289,7 +296,7 @@ static void scoreContour(const Rendered& r, const Mat& scene_color, bool with_de
             int gx, gy;
             sobel.at(x, y, 0, gx, gy); // the smoothed mask's gradient
             const int b = orientationBin((float)gx, (float)gy, B);
-            if (edgeNear(edges, x, y, b, B, p.edge_distance))
+            if (edges.near(x, y, b, p.edge_distance))
             {
                 ++n_matched;
                 continue;
@@ -377,13 +384,13 @@ static void scoreRegion(const Rendered& r, const Mat& hsv_s, const Mat& state,
 }
 
 static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat& scene_depth,
-                            const VerificationParams& p, PoseMatch& m)
+                            const EdgeMaps* maps, const VerificationParams& p, PoseMatch& m)
 {
     const bool with_depth = !scene_depth.empty();
     Mat state, hsv_s;
     cvtColor(scene_color(r.rect), hsv_s, COLOR_BGR2HSV);
     const double raw_colour = scoreInterior(r, hsv_s, scene_depth, p, state, m);
-    scoreContour(r, scene_color, with_depth, raw_colour, state, p, m);
+    scoreContour(r, scene_color, maps, with_depth, raw_colour, state, p, m);
     scoreRegion(r, hsv_s, state, p, m);
     double wsum = p.w_similarity + p.w_color + p.w_edges + p.w_region;
     double v = p.w_similarity * m.similarity / 100.0 + p.w_color * m.color_score
@@ -409,7 +416,7 @@ static void noEvidence(const VerificationParams& p, bool with_depth, PoseMatch& 
 
 void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, const Matx33d& K,
                       std::vector<PoseMatch>& matches, const VerificationParams& p,
-                      DetectionStats* stats)
+                      const EdgeMaps* maps, DetectionStats* stats)
 {
     checkVerificationParams(p);
     if (color.empty() || color.type() != CV_8UC3)
@@ -425,6 +432,15 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
                                              color.rows));
     if (!(K(0, 0) > 0) || !(K(1, 1) > 0))
         CV_Error(Error::StsBadArg, "forestmod::Detector::verify: K has no focal length");
+    if (maps)
+    {
+        checkEdgeMaps(*maps, p.edge_params.orientations, color.size(),
+                      "forestmod::Detector::verify");
+        if (!(maps->max_distance >= p.edge_distance))
+            CV_Error_(Error::StsBadArg, ("forestmod::Detector::verify: the edge maps are "
+                                         "truncated at %g px, below params.edge_distance %g",
+                                         maps->max_distance, p.edge_distance));
+    }
     TickMeter tm;
     tm.start();
     for (size_t i = 0; i < matches.size(); ++i)
@@ -465,7 +481,7 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
             if (r.rect.area() == 0 || countNonZero(r.mask) == 0)
                 noEvidence(p, !depth.empty(), m);
             else
-                scoreHypothesis(r, color, depth, p, m);
+                scoreHypothesis(r, color, depth, maps, p, m);
         }
     });
     // 3. verified hypotheses first, best first; the others after them in their order

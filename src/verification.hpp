@@ -20,10 +20,11 @@ void checkVerificationParams(const VerificationParams& p);
 
 /** Detector::verify: scores the first p.top_k hypotheses with a pose of every class whose mesh
 `poses` holds, fills their verification fields and moves them to the front of `matches`, best
-first. color: CV_8UC3; depth: CV_16UC1 or empty. */
+first. color: CV_8UC3; depth: CV_16UC1 or empty; maps: the frame's edge maps (computeEdgeMaps()
+with p.edge_params) or null, then each crop's edges are found with Canny. */
 void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, const Matx33d& K,
                       std::vector<PoseMatch>& matches, const VerificationParams& p,
-                      DetectionStats* stats);
+                      const EdgeMaps* maps, DetectionStats* stats);
 
 } // namespace detail
 } // namespace forestmod

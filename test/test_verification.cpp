@@ -153,6 +153,79 @@ TEST(Forestmod_Verification, decoy_with_the_better_linemod_score_loses)
               << stats.t_verify_ms << " ms" << std::endl;
 }
 
+// hypotheses in a fixed order (verify() sorts by its score): by place and template
+static std::vector<PoseMatch> byPlace(std::vector<PoseMatch> m)
+{
+    std::sort(m.begin(), m.end(), [](const PoseMatch& a, const PoseMatch& b) {
+        return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.template_id < b.template_id;
+    });
+    return m;
+}
+
+// The frame's edge maps, made once by the pose stage, stand for Canny on every hypothesis' crop:
+// estimatePoses() returns the maps it made and reads given ones, verify() scores the contour on
+// them as on its own edges (detect() passes them on).
+TEST(Forestmod_Verification, the_frames_edge_maps_stand_for_canny_on_each_crop)
+{
+    const DecoyScene s;
+    const Matx33d K = lmoIntrinsics();
+    std::vector<PoseMatch> matches;
+    s.det->match(std::vector<Mat>(1, s.color), 60.f, matches);
+    ASSERT_GE(matches.size(), 2u);
+    // the pose stage: the maps it makes around the refined matches, then the same maps given
+    const PoseParams pp;
+    std::vector<PoseMatch> hyp = matches, again = matches;
+    EdgeMaps maps;
+    s.det->estimatePoses(noArray(), K, hyp, pp, s.color, maps);
+    ASSERT_EQ((int)maps.distance.size(), pp.edge_params.orientations);
+    ASSERT_EQ(maps.distance[0].size(), s.color.size());
+    s.det->estimatePoses(noArray(), K, again, pp, s.color, maps);
+    for (size_t i = 0; i < hyp.size(); ++i)
+    {
+        EXPECT_EQ(cvtest::norm(hyp[i].t, again[i].t, NORM_INF), 0.0) << i;
+        EXPECT_EQ(hyp[i].edge_fit, again[i].edge_fit) << i;
+    }
+    // the verification: Canny on each crop or the frame's maps, the same scores
+    const VerificationParams vp;
+    std::vector<PoseMatch> own = hyp, read = hyp;
+    s.det->verify(s.color, noArray(), K, own, vp);
+    s.det->verify(s.color, noArray(), K, read, vp, 0, maps);
+    own = byPlace(own);
+    read = byPlace(read);
+    int verified = 0;
+    for (size_t i = 0; i < own.size(); ++i)
+    {
+        if (own[i].verification < 0)
+            continue;
+        ++verified;
+        EXPECT_NEAR(own[i].edge_score, read[i].edge_score, 0.03) << i;
+        EXPECT_EQ(own[i].color_score, read[i].color_score) << i;
+        EXPECT_NEAR(own[i].verification, read[i].verification, 0.01) << i;
+    }
+    EXPECT_GE(verified, 2);
+    // the maps are what it reads: those of an image without edges match no contour
+    EdgeMaps blank;
+    computeEdgeMaps(Mat(s.color.size(), CV_8UC3, Scalar::all(100)), blank, vp.edge_params);
+    std::vector<PoseMatch> none = hyp;
+    s.det->verify(s.color, noArray(), K, none, vp, 0, blank);
+    for (size_t i = 0; i < none.size(); ++i)
+        if (none[i].verification >= 0)
+        {
+            EXPECT_EQ(none[i].edge_score, 0.0) << i;
+        }
+    // maps made with other orientation bins, or truncated below edge_distance, are refused
+    EdgeRefineParams eight = vp.edge_params;
+    eight.orientations = 8;
+    EdgeMaps other;
+    computeEdgeMaps(s.color, other, eight);
+    EXPECT_THROW(s.det->verify(s.color, noArray(), K, none, vp, 0, other), cv::Exception);
+    EXPECT_THROW(s.det->estimatePoses(noArray(), K, none, pp, s.color, other), cv::Exception);
+    EdgeRefineParams tight = vp.edge_params;
+    tight.max_distance = 2; // < edge_distance 3
+    computeEdgeMaps(s.color, other, tight);
+    EXPECT_THROW(s.det->verify(s.color, noArray(), K, none, vp, 0, other), cv::Exception);
+}
+
 // The ape, LM-O's intrinsics and the third view of the coarse sampler around the ape: what the
 // scenes below are drawn with.
 struct ApeView

@@ -147,11 +147,27 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     }
     std::vector<fm::PoseMatch> top; // one hypothesis per location, in the matcher's order
     const int64 t_pose = cv::getTickCount();
+    // one set of edge maps for the frame, around every group (as detect() makes them around its
+    // refined matches), read by the refinement and the verification
+    fm::EdgeMaps edge_maps;
+    if (choose && !groups.empty())
+    {
+        const int margin = cvCeil(3 * pp.edge_params.max_distance);
+        cv::Rect roi;
+        for (size_t g = 0; g < groups.size(); ++g)
+            for (size_t h = 0; h < groups[g].size(); ++h)
+            {
+                const cv::Rect b = groups[g][h].box;
+                roi |= cv::Rect(b.x - margin, b.y - margin, b.width + 2 * margin,
+                                b.height + 2 * margin);
+            }
+        fm::computeEdgeMaps(f.rgb, edge_maps, pp.edge_params, roi);
+    }
     for (size_t g = 0; g < groups.size(); ++g)
     {
         std::vector<fm::PoseMatch>& hyp = groups[g];
         posedet.estimatePoses(use_depth ? f.depth : cv::Mat(), f.K, hyp, pp,
-                              choose ? f.rgb : cv::Mat());
+                              choose ? f.rgb : cv::Mat(), edge_maps);
         const fm::PoseMatch* best = 0;
         for (size_t i = 0; i < hyp.size() && (!best || choose); ++i)
             if (hyp[i].has_pose && (!best || hyp[i].edge_fit > best->edge_fit))
@@ -179,7 +195,9 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     if (!verified)
         return;
     fm::DetectionStats stats;
-    if (!top.empty())
+    if (!top.empty() && !edge_maps.distance.empty()) // the refinement's maps (RGB)
+        posedet.verify(f.rgb, cv::Mat(), f.K, top, ctx.verify, &stats, edge_maps);
+    else if (!top.empty())
         posedet.verify(f.rgb, use_depth ? f.depth : cv::Mat(), f.K, top, ctx.verify, &stats);
     verified->verify.push_back(stats.t_verify_ms);
     scoreHypotheses(top, *gt, f, obj, use_depth, *verified, rec, true);

@@ -391,6 +391,13 @@ public:
     void estimatePoses(InputArray depth, const Matx33d& K, std::vector<PoseMatch>& matches,
                        const PoseParams& params = PoseParams(), InputArray color = noArray()) const;
 
+    /** @overload
+    The edge alignment reads `edge_maps` when they are not empty (computeEdgeMaps() of `color`
+    with params.edge_params, over a roi that holds the matches), else it computes them around the
+    refined matches and returns them there, for verify() or further calls on the same frame. */
+    void estimatePoses(InputArray depth, const Matx33d& K, std::vector<PoseMatch>& matches,
+                       const PoseParams& params, InputArray color, EdgeMaps& edge_maps) const;
+
     /** @brief Verification stage: re-ranks pose hypotheses on evidence the LINEMOD score does
     not use.
 
@@ -412,6 +419,14 @@ public:
                 std::vector<PoseMatch>& matches,
                 const VerificationParams& params = VerificationParams(),
                 DetectionStats* stats = 0) const;
+
+    /** @overload
+    The contour's scene edges are read from the frame's `edge_maps` (computeEdgeMaps() of `color`
+    with params.edge_params, e.g. those estimatePoses() made for the refinement, over a roi that
+    holds the hypotheses) instead of Canny on each hypothesis' crop: detect() does so. */
+    void verify(InputArray color, InputArray depth, const Matx33d& K,
+                std::vector<PoseMatch>& matches, const VerificationParams& params,
+                DetectionStats* stats, const EdgeMaps& edge_maps) const;
 
     /** match() + estimatePoses() in one call: sources as for match(); the depth is taken from the
     DepthNormal source when the detector has one. Without depth, each of the best
