@@ -141,7 +141,7 @@ public:
     }
     // a scene edge of orientation bin b (or a neighbouring one) within radius r of crop pixel
     // (x, y)
-    bool near(int x, int y, int b, double r)
+    bool edgeWithin(int x, int y, int b, double r)
     {
         if (maps_)
             return maps_->distance[b].at<float>(y + crop_.y, x + crop_.x) <= r;
@@ -296,7 +296,7 @@ static void scoreContour(const Rendered& r, const Mat& scene_color, const EdgeMa
             int gx, gy;
             sobel.at(x, y, 0, gx, gy); // the smoothed mask's gradient
             const int b = orientationBin((float)gx, (float)gy, B);
-            if (edges.near(x, y, b, p.edge_distance))
+            if (edges.edgeWithin(x, y, b, p.edge_distance))
             {
                 ++n_matched;
                 continue;
