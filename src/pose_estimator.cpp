@@ -217,9 +217,12 @@ void PoseEstimator::refineWithEdges(const Mat& color, const Matx33d& K, const Po
 {
     if (refine.empty())
         return;
-    if (edge_maps.distance.empty()) // one set for all of them (refinePoseEdges checks given ones)
+    if (edge_maps.distance.empty()) // one set for all of them
         computeEdgeMaps(color, edge_maps, params.edge_params,
                         edgeRoi(matches, refine, params, color.size()));
+    else // checked here, not in the parallel loop
+        checkEdgeMaps(edge_maps, params.edge_params.orientations, color.size(),
+                      "forestmod::Detector::estimatePoses");
     // drawn on the CPU (drawMesh, no lock): the hypotheses refine in parallel
     parallel_for_(Range(0, (int)refine.size()), [&](const Range& r) {
         for (int k = r.start; k < r.end; ++k)
