@@ -407,6 +407,13 @@ static bool sameEdges(const EdgeRefineParams& a, const EdgeRefineParams& b)
         && a.canny_high == b.canny_high;
 }
 
+// detect() returns no drawings (the verification has used them; without it nothing reads them)
+static void releaseDrawings(std::vector<PoseMatch>& matches)
+{
+    for (size_t i = 0; i < matches.size(); ++i)
+        matches[i].drawing.release();
+}
+
 // the verification of detect(): with the frame's edge maps when the pose stage made usable ones
 static void verifyDetections(const Detector& det, const Mat& color, const Mat& depth,
                              const Matx33d& K, std::vector<PoseMatch>& matches,
@@ -452,6 +459,7 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
         estimatePoses(depth, K, matches, params, color, edge_maps);
         if (params.verification.enabled && !color.empty())
             verifyDetections(*this, color, depth, K, matches, params, edge_maps, stats);
+        releaseDrawings(matches);
         return;
     }
     // without depth: each detection's pose is chosen among the matches it suppresses
@@ -470,6 +478,7 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
                                  edge_maps);
     if (params.verification.enabled)
         verifyDetections(*this, color, depth, K, matches, params, edge_maps, stats);
+    releaseDrawings(matches);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -156,17 +156,36 @@ static void colourVisibleFaces(const Mesh& mesh, const std::vector<Vec3f>& p, co
     }
 }
 
-// Two passes: the nearest face of every pixel first (z-buffer and face index), then the colour
-// of that face only, so that the faces drawn over do not cost their colours.
-void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R, const Vec3d& t,
-              Size image, int margin, Rect& rect, OutputArray color, Mat& depth,
-              Mat& mask)
+Mat faceColours(const Mesh& mesh)
 {
-    rect = Rect();
-    if (color.needed())
-        color.release();
-    depth.release();
-    mask.release();
+    const size_t nf = mesh.faces.size();
+    Mat colours((int)nf, 1, CV_8UC3, Scalar::all(128));
+    if (mesh.colors.size() != mesh.vertices.size())
+        return colours;
+    for (size_t f = 0; f < nf; ++f)
+    {
+        const Vec3i& F = mesh.faces[f];
+        Vec3b& c = colours.at<Vec3b>((int)f);
+        for (int k = 0; k < 3; ++k)
+            c[k] = saturate_cast<uchar>((mesh.colors[F[0]][k] + mesh.colors[F[1]][k]
+                                         + mesh.colors[F[2]][k]) / 3.0);
+    }
+    return colours;
+}
+
+// The nearest face of every pixel (z-buffer and face index); p receives the projected vertices
+// (u, v in the crop, z), from which the colour of the nearest faces only is interpolated
+// afterwards (colourVisibleFaces), so that the faces drawn over do not cost their colours.
+static void rasterize(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
+                      const Vec3d& t, Size image, int margin, Drawing& d, std::vector<Vec3f>& p)
+{
+    d = Drawing();
+    d.mesh = &mesh;
+    d.K = K;
+    d.R = R;
+    d.t = t;
+    d.image = image;
+    d.margin = margin;
     const Point3f lo = mesh.bboxMin(), hi = mesh.bboxMax();
     double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
     for (int c = 0; c < 8; ++c)
@@ -184,14 +203,16 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
     if (!(x1 - x0 < 4.0 * image.width && y1 - y0 < 4.0 * image.height && x0 > -1e6
           && y0 > -1e6 && x1 < 1e6 && y1 < 1e6)) // far off the image (and int-safe)
         return;
-    rect = Rect(cvFloor(x0) - margin, cvFloor(y0) - margin, cvCeil(x1 - x0) + 2 * margin + 2,
-                cvCeil(y1 - y0) + 2 * margin + 2) & Rect(0, 0, image.width, image.height);
+    const Rect rect = Rect(cvFloor(x0) - margin, cvFloor(y0) - margin,
+                           cvCeil(x1 - x0) + 2 * margin + 2, cvCeil(y1 - y0) + 2 * margin + 2)
+        & Rect(0, 0, image.width, image.height);
     if (rect.area() == 0)
         return;
+    d.rect = rect;
     const Size sz = rect.size();
     // vertices in the crop: (u, v, z)
     const size_t nv = mesh.vertices.size();
-    std::vector<Vec3f> p(nv);
+    p.resize(nv);
     const Matx33d KR = K * R;
     const Vec3d Kt = K * t;
     for (size_t i = 0; i < nv; ++i)
@@ -205,7 +226,9 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
     // the camera's frame): negative when an outward normal faces the camera.
     const float inside_sign = (float)winding;
     Mat zbuf(sz, CV_32F, Scalar(FLT_MAX));
-    Mat face_of(sz, CV_32S, Scalar(-1));
+    Mat& face_of = d.face;
+    face_of.create(sz, CV_32S);
+    face_of.setTo(Scalar(-1));
     for (size_t f = 0; f < mesh.faces.size(); ++f)
     {
         const Vec3i& F = mesh.faces[f];
@@ -240,19 +263,65 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
             }
         }
     }
-    if (color.needed())
-        colourVisibleFaces(mesh, p, face_of, color);
-    mask = face_of >= 0;
-    zbuf.setTo(0, ~mask);
-    zbuf.convertTo(depth, CV_16U);
-    depth.setTo(1, mask & (depth == 0));
+    d.mask = face_of >= 0;
+    zbuf.setTo(0, ~d.mask);
+    zbuf.convertTo(d.depth, CV_16U);
+    d.depth.setTo(1, d.mask & (d.depth == 0));
+}
+
+void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R, const Vec3d& t,
+              Size image, int margin, Drawing& drawing)
+{
+    std::vector<Vec3f> p;
+    rasterize(mesh, winding, K, R, t, image, margin, drawing, p);
+}
+
+void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R, const Vec3d& t,
+              Size image, int margin, Rect& rect, OutputArray color, Mat& depth, Mat& mask)
+{
+    Drawing d;
+    std::vector<Vec3f> p;
+    rasterize(mesh, winding, K, R, t, image, margin, d, p);
+    rect = d.rect;
+    depth = d.depth;
+    mask = d.mask;
+    if (!color.needed())
+        return;
+    if (d.rect.area() == 0)
+        color.release();
+    else
+        colourVisibleFaces(mesh, p, d.face, color);
+}
+
+bool Drawing::isOf(const Mesh* mesh_, const Matx33d& K_, const Matx33d& R_, const Vec3d& t_,
+                   Size image_, int margin_) const
+{
+    return mesh && mesh == mesh_ && K == K_ && R == R_ && t == t_ && image == image_
+        && margin == margin_;
+}
+
+Ptr<Drawing> ObjectDrawer::drawing(const Matx33d& K, const Matx33d& R, const Vec3d& t) const
+{
+    Ptr<Drawing> d = makePtr<Drawing>();
+    draw(K, R, t, d->rect, d->depth, d->mask);
+    d->K = K;
+    d->R = R;
+    d->t = t;
+    d->image = imageSize();
+    return d;
+}
+
+Ptr<Drawing> MeshDrawer::drawing(const Matx33d& K, const Matx33d& R, const Vec3d& t) const
+{
+    Ptr<Drawing> d = makePtr<Drawing>();
+    drawMesh(mesh_, winding_, K, R, t, image_, kDrawMargin, *d);
+    return d;
 }
 
 void MeshDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
                       Mat& mask) const
 {
-    // the crop's margin holds the refinement's 3 px around the silhouette and its blur's reach
-    drawMesh(mesh_, winding_, K, R, t, image_, 8, rect, noArray(), depth, mask);
+    drawMesh(mesh_, winding_, K, R, t, image_, kDrawMargin, rect, noArray(), depth, mask);
 }
 
 void RendererDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect,

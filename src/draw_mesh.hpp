@@ -29,6 +29,41 @@ closed mesh the nearest surface along any ray is seen from outside, so drawMesh(
 seen from inside. */
 CV_EXPORTS int closedWinding(const Mesh& mesh);
 
+/** The crop's margin around the projected bounding box with which the pose stage and the
+verification draw (the refinement's 3 px around the silhouette and its blur's reach, the
+verification's edge distance and region ring): one margin, so that the verification can score
+the pose stage's last drawing of a hypothesis. */
+const int kDrawMargin = 8;
+
+/** Each face's colour: the mean of its vertices' colours (CV_8UC3, one row per face; grey
+without colours). */
+CV_EXPORTS Mat faceColours(const Mesh& mesh);
+
+/** An object drawn at a pose, as the pose stage hands it to the verification: the crop and its
+images, how it was drawn, and (drawn by drawMesh()) the face seen at each pixel. */
+struct CV_EXPORTS Drawing
+{
+    Drawing() : mesh(0), margin(0) {}
+    Rect rect; //!< the crop in the image (empty when nothing is drawn)
+    Mat depth; //!< CV_16U, mm, 0 off the object
+    Mat mask; //!< CV_8U
+    const Mesh* mesh; //!< the mesh drawMesh() drew, 0 for another drawer
+    Matx33d K, R;
+    Vec3d t;
+    Size image;
+    int margin;
+    Mat face; //!< CV_32S, the nearest face of each pixel, -1 for none (drawMesh() only)
+
+    /** True when this is `mesh` drawn by drawMesh() at exactly (R, t) with K into an image of
+    size `image` with `margin`. */
+    bool isOf(const Mesh* mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t, Size image,
+              int margin) const;
+};
+
+/** drawMesh() below without colours, with the face seen at each pixel (Drawing::face). */
+CV_EXPORTS void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
+                         const Vec3d& t, Size image, int margin, Drawing& drawing);
+
 /** A hypothesis drawn for the verification or the pose refinements: the mesh at (R, t) seen
 with K, drawn into the crop `rect` around its projection (the projected bounding box widened by
 margin, clipped to the image of size `image`): z-buffered triangles, a pixel is the object's when
@@ -52,6 +87,9 @@ public:
     virtual Size imageSize() const = 0;
     virtual void draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
                       Mat& mask) const = 0;
+    /** draw() into a Drawing that can be kept (rect, depth, mask; what colours it when the
+    drawer can). */
+    virtual Ptr<Drawing> drawing(const Matx33d& K, const Matx33d& R, const Vec3d& t) const;
 };
 
 /** drawMesh() of a mesh (e.g. coarseMesh()) with its closedWinding(): no lock, so the
@@ -66,6 +104,7 @@ public:
     Size imageSize() const CV_OVERRIDE { return image_; }
     void draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
               Mat& mask) const CV_OVERRIDE;
+    Ptr<Drawing> drawing(const Matx33d& K, const Matx33d& R, const Vec3d& t) const CV_OVERRIDE;
 
 private:
     const Mesh& mesh_;

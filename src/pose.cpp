@@ -399,13 +399,20 @@ ICPResult refinePose(const ObjectDrawer& drawer, InputArray scene_depth, const M
 }
 
 double depthCheck(const ObjectDrawer& drawer, InputArray scene_depth, const Matx33d& K,
-                  const Matx33d& R, const Vec3d& t, double tolerance_mm)
+                  const Matx33d& R, const Vec3d& t, double tolerance_mm, Ptr<Drawing>* drawn)
 {
     Mat scene = getDepth16(scene_depth, "depthCheck", "scene_depth");
     checkDrawing(drawer, scene, "depthCheck");
     Mat depth, mask;
     Rect rect;
-    drawer.draw(K, R, t, rect, depth, mask);
+    if (drawn)
+    {
+        *drawn = drawer.drawing(K, R, t);
+        rect = (*drawn)->rect;
+        depth = (*drawn)->depth;
+    }
+    else
+        drawer.draw(K, R, t, rect, depth, mask);
     if (depth.empty())
     {
         if (!(tolerance_mm > 0))

@@ -194,15 +194,23 @@ static inline bool sampleMap(const Mat& m, double u, double v, double& val, doub
 }
 
 // model edge points of the object rendered at (R, t): silhouette, and colour edges / depth
-// discontinuities inside it
+// discontinuities inside it; the drawing kept in *keep when asked
 static void extractEdgePoints(const detail::ObjectDrawer& drawer, const Matx33d& K,
                               const Matx33d& R, const Vec3d& t, const EdgeRefineParams& p,
-                              std::vector<EdgePoint>& pts)
+                              std::vector<EdgePoint>& pts, Ptr<detail::Drawing>* keep = 0)
 {
     pts.clear();
     Mat depth, mask;
     Rect crop;
-    drawer.draw(K, R, t, crop, depth, mask);
+    if (keep)
+    {
+        *keep = drawer.drawing(K, R, t);
+        crop = (*keep)->rect;
+        depth = (*keep)->depth;
+        mask = (*keep)->mask;
+    }
+    else
+        drawer.draw(K, R, t, crop, depth, mask);
     if (mask.empty())
         return;
     const Rect box = boundingRect(mask);
@@ -356,7 +364,7 @@ static double edgeCost(const std::vector<EdgePoint>& pts, const EdgeMaps& maps, 
 
 static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const EdgeMaps& maps,
                                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
-                                   const EdgeRefineParams& params);
+                                   const EdgeRefineParams& params, Ptr<detail::Drawing>* last);
 
 EdgeRefineResult refinePoseEdges(Renderer& renderer, int handle, const EdgeMaps& maps,
                                  const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
@@ -386,7 +394,7 @@ void checkEdgeMaps(const EdgeMaps& maps, int orientations, Size image, const cha
 
 EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& maps,
                                  const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
-                                 const EdgeRefineParams& params)
+                                 const EdgeRefineParams& params, Ptr<Drawing>* last)
 {
     checkEdgeParams(params, "refinePoseEdges");
     checkEdgeMaps(maps, params.orientations, drawer.imageSize(), "refinePoseEdges");
@@ -439,13 +447,16 @@ EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& map
     for (size_t h = 0; h < starts.size() && (int)h <= params.hypotheses; ++h)
     {
         const Matx33d& dR = starts[h].second;
+        Ptr<Drawing> drawn;
         const EdgeRefineResult r = refineFrom(drawer, maps, K, dR * R0,
-                                              dR * (t0 - c) + c, params);
+                                              dR * (t0 - c) + c, params, last ? &drawn : 0);
         iterations += r.iterations;
         if (r.points > 0 && (!any || r.inlier_ratio > best.inlier_ratio))
         {
             best = r;
             any = true;
+            if (last)
+                *last = drawn;
         }
     }
     best.iterations = iterations;
@@ -456,7 +467,7 @@ EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& map
 
 static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const EdgeMaps& maps,
                                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
-                                   const EdgeRefineParams& params)
+                                   const EdgeRefineParams& params, Ptr<detail::Drawing>* last)
 {
     EdgeRefineResult res;
     res.R = R0;
@@ -521,8 +532,8 @@ static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const Edg
                 break;
         }
     }
-    // quality at the final pose, with its own rendering
-    extractEdgePoints(drawer, K, res.R, res.t, params, pts);
+    // quality at the final pose, with its own rendering (kept in *last when asked)
+    extractEdgePoints(drawer, K, res.R, res.t, params, pts, last);
     res.points = (int)pts.size();
     int in = 0;
     edgeCost(pts, maps, maps.max_distance, K, res.R, res.t, params.huber, Vec3d(), 0, 0, &in,

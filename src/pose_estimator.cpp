@@ -69,28 +69,26 @@ PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids
 void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
 {
     mesh.validate();
+    DrawnMesh d;
+    d.diameter = mesh.diameter();
+    d.mesh = coarseMesh(mesh, d.diameter / 64);
+    d.winding = closedWinding(d.mesh);
+    cvtColor(faceColours(d.mesh), d.face_hsv, COLOR_BGR2HSV);
     AutoLock lock(mutex_);
-    diameters_[class_id] = mesh.diameter();
-    coarse_[class_id] = coarseMesh(mesh, diameters_[class_id] / 64);
-    coarse_winding_[class_id] = closedWinding(coarse_[class_id]);
+    drawn_[class_id] = d;
 }
 
 bool PoseEstimator::hasMesh(const String& class_id) const
 {
     AutoLock lock(mutex_);
-    return coarse_.count(class_id) > 0;
+    return drawn_.count(class_id) > 0;
 }
 
-const Mesh* PoseEstimator::drawnMesh(const String& class_id, double& diameter,
-                                     int& winding) const
+const DrawnMesh* PoseEstimator::drawnMesh(const String& class_id) const
 {
     AutoLock lock(mutex_);
-    std::map<String, Mesh>::const_iterator it = coarse_.find(class_id);
-    if (it == coarse_.end())
-        return 0;
-    diameter = diameters_.find(class_id)->second;
-    winding = coarse_winding_.find(class_id)->second;
-    return &it->second;
+    std::map<String, DrawnMesh>::const_iterator it = drawn_.find(class_id);
+    return it == drawn_.end() ? 0 : &it->second;
 }
 
 static void checkPoseInputs(const Mat& depth, const Matx33d& K, const PoseParams& params,
@@ -170,6 +168,7 @@ static bool startPose(const TemplateStore& store, const Mat& depth, const Matx33
                       PoseMatch& m)
 {
     m.has_pose = m.refined = false;
+    m.drawing.release();
     m.depth_agreement = -1;
     m.edge_fit = -1;
     if (m.pose.valid)
@@ -179,10 +178,10 @@ static bool startPose(const TemplateStore& store, const Mat& depth, const Matx33
 
 MeshDrawer PoseEstimator::drawerOf(const String& class_id, Size size, double& diameter) const
 {
-    int winding = 0;
-    const Mesh* mesh = drawnMesh(class_id, diameter, winding);
-    CV_Assert(mesh);
-    return MeshDrawer(*mesh, winding, size);
+    const DrawnMesh* d = drawnMesh(class_id);
+    CV_Assert(d);
+    diameter = d->diameter;
+    return MeshDrawer(d->mesh, d->winding, size);
 }
 
 void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
@@ -205,7 +204,7 @@ void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const Po
                 m.refined = true;
             }
             const double tol = params.depth_check_tolerance * diameter;
-            m.depth_agreement = depthCheck(drawer, depth, K, m.R, m.t, tol);
+            m.depth_agreement = depthCheck(drawer, depth, K, m.R, m.t, tol, &m.drawing);
             drop[refine[k]] = m.depth_agreement < params.min_depth_agreement;
         }
     });
@@ -229,16 +228,18 @@ void PoseEstimator::refineWithEdges(const Mat& color, const Matx33d& K, const Po
         {
             PoseMatch& m = matches[refine[k]];
             double diameter = 0;
+            Ptr<Drawing> drawn; // at er's pose, for the verification
             const EdgeRefineResult er = refinePoseEdges(drawerOf(m.class_id, color.size(),
                                                                  diameter),
                                                         edge_maps, K, m.R, m.t,
-                                                        params.edge_params);
+                                                        params.edge_params, &drawn);
             if (er.points > 0)
             {
                 m.R = er.R;
                 m.t = er.t;
                 m.refined = true;
                 m.edge_fit = er.inlier_ratio;
+                m.drawing = drawn;
             }
         }
     });

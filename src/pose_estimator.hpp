@@ -22,6 +22,17 @@ namespace detail {
 PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids,
                       const TemplateStore& store);
 
+/** A class's mesh as the pose stage and the verification draw it: coarseMesh() (vertices
+clustered on a grid of 1/64 of the diameter), its closedWinding(), the full mesh's diameter (mm)
+and each face's colour in HSV (faceColours(), for the verification's colour score). */
+struct DrawnMesh
+{
+    Mesh mesh;
+    int winding;
+    double diameter;
+    Mat face_hsv; //!< CV_8UC3, one row per face
+};
+
 class PoseEstimator
 {
 public:
@@ -46,11 +57,10 @@ public:
                          const PoseParams& params, const Mat& color,
                          std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);
 
-    /** The mesh of a class that the verification and the edge refinement draw (coarseMesh():
-    vertices clustered on a grid of 1/64 of the diameter), its closedWinding() and the diameter
-    of the full mesh (mm); null without one. The pointer stays valid until setMesh() is called
-    again (which must not run concurrently with detection). */
-    const Mesh* drawnMesh(const String& class_id, double& diameter, int& winding) const;
+    /** What the verification and the refinements draw of a class; null without a mesh. The
+    pointer stays valid until setMesh() is called again (which must not run concurrently with
+    detection). */
+    const DrawnMesh* drawnMesh(const String& class_id) const;
 private:
     // the drawing of a class's coarse mesh for images of `size` (the class has a mesh) and the
     // full mesh's diameter
@@ -65,10 +75,8 @@ private:
     void refineWithEdges(const Mat& color, const Matx33d& K, const PoseParams& params,
                          std::vector<PoseMatch>& matches, const std::vector<size_t>& refine,
                          EdgeMaps& edge_maps) const;
-    std::map<String, double> diameters_;
-    std::map<String, Mesh> coarse_;       //!< drawnMesh()
-    std::map<String, int> coarse_winding_; //!< drawnMesh()
-    mutable Mutex mutex_;                 //!< guards all of the above
+    std::map<String, DrawnMesh> drawn_; //!< drawnMesh()
+    mutable Mutex mutex_;               //!< guards drawn_
 };
 
 } // namespace detail

@@ -21,10 +21,12 @@ distance map per orientation bin, each of size `image`: computeEdgeMaps() of tha
 `orientations` bins. */
 void checkEdgeMaps(const EdgeMaps& maps, int orientations, Size image, const char* who);
 
-/** refinePoseEdges() with the object drawn by `drawer`. */
+/** refinePoseEdges() with the object drawn by `drawer`; `last` (when given) receives the drawing
+at the returned pose (empty when no start was refined). */
 CV_EXPORTS EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& maps,
                                             const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
-                                            const EdgeRefineParams& params);
+                                            const EdgeRefineParams& params,
+                                            Ptr<Drawing>* last = 0);
 
 /** refinePose() (render, back-project, ICP; `passes` times) with the object drawn by
 `drawer`. */
@@ -32,9 +34,10 @@ CV_EXPORTS ICPResult refinePose(const ObjectDrawer& drawer, InputArray scene_dep
                                 const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
                                 const ICPParams& params, int passes, int step = 1);
 
-/** depthCheck() with the object drawn by `drawer`. */
+/** depthCheck() with the object drawn by `drawer`; `drawn` (when given) receives the drawing. */
 CV_EXPORTS double depthCheck(const ObjectDrawer& drawer, InputArray scene_depth, const Matx33d& K,
-                             const Matx33d& R, const Vec3d& t, double tolerance_mm);
+                             const Matx33d& R, const Vec3d& t, double tolerance_mm,
+                             Ptr<Drawing>* drawn = 0);
 
 } // namespace detail
 } // namespace forestmod

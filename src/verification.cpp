@@ -113,11 +113,13 @@ void checkVerificationParams(const VerificationParams& p)
 
 namespace {
 
-// One hypothesis rendered: the crop (scene image coordinates) around it and the crop-sized images.
+// One hypothesis rendered: the crop (scene image coordinates) around it and the crop-sized images
+// (face: the face seen at each pixel, whose colour face_hsv holds).
 struct Rendered
 {
     Rect rect; // crop in the scene image
-    Mat color, depth, mask;
+    Mat face, depth, mask;
+    const Mat* face_hsv;
     double diameter;
 };
 
@@ -212,8 +214,7 @@ static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scen
     const double tol_mm = p.depth_tolerance * r.diameter;
     const bool with_depth = !scene_depth.empty();
     const Mat depth = with_depth ? scene_depth(r.rect) : Mat();
-    Mat hsv_m;
-    cvtColor(r.color, hsv_m, COLOR_BGR2HSV);
+    const Vec3b* face_hsv = r.face_hsv->ptr<Vec3b>();
     Mat interior;
     erode(r.mask, interior, Mat(), Point(-1, -1), 2); // colours at the silhouette are mixed
     if (countNonZero(interior) == 0)
@@ -223,7 +224,7 @@ static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scen
     for (int y = 0; y < sz.height; ++y)
     {
         const uchar* in = interior.ptr<uchar>(y);
-        const uchar* hm = hsv_m.ptr<uchar>(y);
+        const int* face = r.face.ptr<int>(y);
         const uchar* hs = hsv_s.ptr<uchar>(y);
         const ushort* rd = r.depth.ptr<ushort>(y);
         const ushort* sd = with_depth ? depth.ptr<ushort>(y) : 0;
@@ -240,7 +241,7 @@ static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scen
                 occluded = (double)sd[x] < (double)rd[x] - tol_mm;
             }
             const bool agree = !occluded
-                && colourAgrees(hueClass(hm + 3 * x, min_s, min_v),
+                && colourAgrees(hueClass(face_hsv[face[x]].val, min_s, min_v),
                                 hueClass(hs + 3 * x, min_s, min_v), hue_tol);
             st[x] = occluded ? 3 : agree ? 1 : 2;
             if (!row_sampled || x % p.sample_step != 0)
@@ -448,46 +449,57 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
             = matches[i].depth_score = matches[i].occlusion = matches[i].region_score = -1;
     // 1. the first top_k hypotheses with a pose of each class whose mesh is known
     std::vector<size_t> todo;
-    std::vector<const Mesh*> meshes;
-    std::vector<double> diameters;
-    std::vector<int> windings;
+    std::vector<const DrawnMesh*> meshes;
     std::map<String, int> per_class;
     for (size_t i = 0; i < matches.size(); ++i)
     {
         const PoseMatch& m = matches[i];
         if (!m.has_pose || per_class[m.class_id] >= p.top_k)
             continue;
-        double diameter = 0;
-        int winding = 0;
-        const Mesh* mesh = poses.drawnMesh(m.class_id, diameter, winding);
+        const DrawnMesh* mesh = poses.drawnMesh(m.class_id);
         if (!mesh)
             continue;
         ++per_class[m.class_id];
         todo.push_back(i);
         meshes.push_back(mesh);
-        diameters.push_back(diameter);
-        windings.push_back(winding);
     }
     // 2. each drawn in its crop and scored against the scene there
-    const int margin = cvCeil(p.edge_distance) + 4;
+    // (the pose stage's last drawing of a hypothesis when it is this one: same mesh, pose,
+    // camera and crop margin)
+    const int margin = std::max(kDrawMargin, cvCeil(p.edge_distance) + 4);
     parallel_for_(Range(0, (int)todo.size()), [&](const Range& range) {
         for (int j = range.start; j < range.end; ++j)
         {
             PoseMatch& m = matches[todo[j]];
+            const DrawnMesh& mesh = *meshes[j];
+            Drawing own;
+            const Drawing* d = m.drawing.get();
+            if (!d || !d->isOf(&mesh.mesh, K, m.R, m.t, color.size(), margin))
+            {
+                drawMesh(mesh.mesh, mesh.winding, K, m.R, m.t, color.size(), margin, own);
+                d = &own;
+            }
             Rendered r;
-            r.diameter = diameters[j];
-            drawMesh(*meshes[j], windings[j], K, m.R, m.t, color.size(), margin, r.rect,
-                     r.color, r.depth, r.mask);
+            r.rect = d->rect;
+            r.face = d->face;
+            r.depth = d->depth;
+            r.mask = d->mask;
+            r.face_hsv = &mesh.face_hsv;
+            r.diameter = mesh.diameter;
             if (r.rect.area() == 0 || countNonZero(r.mask) == 0)
                 noEvidence(p, !depth.empty(), m);
             else
                 scoreHypothesis(r, color, depth, maps, p, m);
         }
     });
-    // 3. verified hypotheses first, best first; the others after them in their order
+    // 3. verified hypotheses first, best first; the others after them in their order; the
+    // drawings released
     std::vector<PoseMatch> verified, rest;
     for (size_t i = 0; i < matches.size(); ++i)
+    {
+        matches[i].drawing.release();
         (matches[i].verification >= 0 ? verified : rest).push_back(matches[i]);
+    }
     std::stable_sort(verified.begin(), verified.end(),
                      [](const PoseMatch& a, const PoseMatch& b) {
                          return a.verification > b.verification;

@@ -228,6 +228,72 @@ TEST(Forestmod_Verification, the_frames_edge_maps_stand_for_canny_on_each_crop)
 
 // The ape, LM-O's intrinsics and the third view of the coarse sampler around the ape: what the
 // scenes below are drawn with.
+// Scores of the verified hypotheses, in a fixed order.
+static std::vector<Vec4d> verifiedScores(const std::vector<PoseMatch>& matches)
+{
+    std::vector<Vec4d> s;
+    const std::vector<PoseMatch> m = byPlace(matches);
+    for (size_t i = 0; i < m.size(); ++i)
+        if (m[i].verification >= 0)
+            s.push_back(Vec4d(m[i].verification, m[i].color_score, m[i].edge_score,
+                              m[i].region_score));
+    return s;
+}
+
+// The pose stage keeps its last drawing of each refined hypothesis (PoseMatch::drawing) and the
+// verification scores it instead of drawing again: the same scores as a drawing of its own; a
+// hypothesis moved since is drawn again; verify() releases the drawings.
+TEST(Forestmod_Verification, the_pose_stages_drawing_is_scored_as_a_new_one)
+{
+    const DecoyScene s;
+    const Matx33d K = lmoIntrinsics();
+    std::vector<PoseMatch> hyp;
+    s.det->match(std::vector<Mat>(1, s.color), 60.f, hyp);
+    ASSERT_GE(hyp.size(), 2u);
+    EdgeMaps maps;
+    s.det->estimatePoses(noArray(), K, hyp, PoseParams(), s.color, maps);
+    int drawn = 0, first = -1;
+    for (size_t i = 0; i < hyp.size(); ++i)
+    {
+        if (!hyp[i].drawing)
+            continue;
+        EXPECT_TRUE(hyp[i].refined) << i;
+        first = first < 0 ? (int)i : first;
+        ++drawn;
+    }
+    ASSERT_GE(drawn, 2);
+    const VerificationParams vp;
+    std::vector<PoseMatch> kept = hyp, fresh = hyp;
+    for (size_t i = 0; i < fresh.size(); ++i)
+        fresh[i].drawing.release();
+    s.det->verify(s.color, noArray(), K, kept, vp, 0, maps);
+    s.det->verify(s.color, noArray(), K, fresh, vp, 0, maps);
+    for (size_t i = 0; i < kept.size(); ++i)
+        EXPECT_FALSE(kept[i].drawing) << "verify() releases the drawings";
+    const std::vector<Vec4d> a = verifiedScores(kept), b = verifiedScores(fresh);
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_GE(a.size(), 2u);
+    for (size_t i = 0; i < a.size(); ++i)
+        EXPECT_EQ(cvtest::norm(a[i], b[i], NORM_INF), 0.0) << i << ": " << a[i] << " " << b[i];
+    // one hypothesis moved by 12 mm (about 9 px) after the pose stage drew it
+    std::vector<PoseMatch> moved = hyp, moved_fresh = hyp;
+    moved[first].t += Vec3d(12, 0, 0);
+    moved_fresh[first].t += Vec3d(12, 0, 0);
+    for (size_t i = 0; i < moved_fresh.size(); ++i)
+        moved_fresh[i].drawing.release();
+    s.det->verify(s.color, noArray(), K, moved, vp, 0, maps);
+    s.det->verify(s.color, noArray(), K, moved_fresh, vp, 0, maps);
+    const std::vector<Vec4d> c = verifiedScores(moved), d = verifiedScores(moved_fresh);
+    ASSERT_EQ(c.size(), d.size());
+    double changed = 0;
+    for (size_t i = 0; i < c.size(); ++i)
+    {
+        EXPECT_EQ(cvtest::norm(c[i], d[i], NORM_INF), 0.0) << i << ": " << c[i] << " " << d[i];
+        changed = std::max(changed, cvtest::norm(c[i], a[i], NORM_INF));
+    }
+    EXPECT_GT(changed, 0.02) << "the move changes the moved hypothesis' scores";
+}
+
 struct ApeView
 {
     Mesh ape;

@@ -19,6 +19,7 @@ class Mesh;
 struct ViewSampler;
 namespace detail {
 struct DetectorImpl;
+struct Drawing;
 }
 
 //! @addtogroup forestmod_detector
@@ -301,6 +302,10 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
     around it (total variation distance of their colour histograms, 0..1): an object stands out
     from its surroundings, a pose on clutter straddles it. Needs no model colours. */
     CV_PROP_RW double region_score;
+    /** The object as estimatePoses() last drew it, at exactly (R, t) (opaque): verify() scores
+    that drawing instead of drawing the hypothesis again, and releases it; a drawing of another
+    pose or camera is not used. Empty when not drawn; release() it to free the memory. */
+    Ptr<detail::Drawing> drawing;
 };
 
 /** @brief LINEMOD detector searched through a fuzzy template forest (Shao, Tang, Kim).
@@ -383,7 +388,7 @@ public:
     params.min_depth_agreement are dropped. Matches keep their order.
     Without depth, given the colour image and a mesh, the best params.max_per_class matches per
     class are refined by edge alignment (refinePoseEdges(), PoseParams::rgb_refine; edge_fit is
-    set).
+    set). The refined matches keep their last drawing (PoseMatch::drawing) for verify().
     @param depth CV_16UC1 scene depth in mm, or empty for RGB only.
     @param K     intrinsics of the scene images.
     @param color the scene's BGR image (for the refinement without depth), optional.
