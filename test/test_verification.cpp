@@ -70,6 +70,14 @@ struct DecoyScene
         color(cover).setTo(Scalar(128, 128, 128));
     }
 
+    // the matches of the scene (object, decoy and a few on the background)
+    std::vector<PoseMatch> matches() const
+    {
+        std::vector<PoseMatch> m;
+        det->match(std::vector<Mat>(1, color), 60.f, m);
+        return m;
+    }
+
     // the hypothesis' centre (projection of the mesh centre) lies in the box
     bool inside(const PoseMatch& m, const Rect& box) const
     {
@@ -169,8 +177,7 @@ TEST(Forestmod_Verification, the_frames_edge_maps_stand_for_canny_on_each_crop)
 {
     const DecoyScene s;
     const Matx33d K = lmoIntrinsics();
-    std::vector<PoseMatch> matches;
-    s.det->match(std::vector<Mat>(1, s.color), 60.f, matches);
+    const std::vector<PoseMatch> matches = s.matches();
     ASSERT_GE(matches.size(), 2u);
     // the pose stage: the maps it makes around the refined matches, then the same maps given
     const PoseParams pp;
@@ -247,8 +254,7 @@ TEST(Forestmod_Verification, the_pose_stages_drawing_is_scored_as_a_new_one)
 {
     const DecoyScene s;
     const Matx33d K = lmoIntrinsics();
-    std::vector<PoseMatch> hyp;
-    s.det->match(std::vector<Mat>(1, s.color), 60.f, hyp);
+    std::vector<PoseMatch> hyp = s.matches();
     ASSERT_GE(hyp.size(), 2u);
     EdgeMaps maps;
     s.det->estimatePoses(noArray(), K, hyp, PoseParams(), s.color, maps);
