@@ -180,7 +180,6 @@ static void rasterize(const Mesh& mesh, int winding, const Matx33d& K, const Mat
                       const Vec3d& t, Size image, int margin, Drawing& d, std::vector<Vec3f>& p)
 {
     d = Drawing();
-    d.mesh = &mesh;
     d.K = K;
     d.R = R;
     d.t = t;
@@ -293,10 +292,10 @@ void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
         colourVisibleFaces(mesh, p, d.face, color);
 }
 
-bool Drawing::isOf(const Mesh* mesh_, const Matx33d& K_, const Matx33d& R_, const Vec3d& t_,
+bool Drawing::isOf(uint64 source_, const Matx33d& K_, const Matx33d& R_, const Vec3d& t_,
                    Size image_, int margin_) const
 {
-    return mesh && mesh == mesh_ && K == K_ && R == R_ && t == t_ && image == image_
+    return source != 0 && source == source_ && K == K_ && R == R_ && t == t_ && image == image_
         && margin == margin_;
 }
 
@@ -315,6 +314,7 @@ Ptr<Drawing> MeshDrawer::drawing(const Matx33d& K, const Matx33d& R, const Vec3d
 {
     Ptr<Drawing> d = makePtr<Drawing>();
     drawMesh(mesh_, winding_, K, R, t, image_, kDrawMargin, *d);
+    d->source = source_;
     return d;
 }
 

@@ -43,20 +43,22 @@ CV_EXPORTS Mat faceColours(const Mesh& mesh);
 images, how it was drawn, and (drawn by drawMesh()) the face seen at each pixel. */
 struct CV_EXPORTS Drawing
 {
-    Drawing() : mesh(0), margin(0) {}
+    Drawing() : source(0), margin(0) {}
     Rect rect; //!< the crop in the image (empty when nothing is drawn)
     Mat depth; //!< CV_16U, mm, 0 off the object
     Mat mask; //!< CV_8U
-    const Mesh* mesh; //!< the mesh drawMesh() drew, 0 for another drawer
+    /** What was drawn: the id a MeshDrawer was given (the pose stage's DrawnMesh::id, never
+    reused, so a mesh set again is not taken for the old one), 0 when unknown. */
+    uint64 source;
     Matx33d K, R;
     Vec3d t;
     Size image;
     int margin;
     Mat face; //!< CV_32S, the nearest face of each pixel, -1 for none (drawMesh() only)
 
-    /** True when this is `mesh` drawn by drawMesh() at exactly (R, t) with K into an image of
-    size `image` with `margin`. */
-    bool isOf(const Mesh* mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t, Size image,
+    /** True when this is `source` (not 0) drawn by drawMesh() at exactly (R, t) with K into an
+    image of size `image` with `margin`. */
+    bool isOf(uint64 source, const Matx33d& K, const Matx33d& R, const Vec3d& t, Size image,
               int margin) const;
 };
 
@@ -93,12 +95,13 @@ public:
 };
 
 /** drawMesh() of a mesh (e.g. coarseMesh()) with its closedWinding(): no lock, so the
-hypotheses of a frame refine in parallel. The mesh must outlive the drawer. */
+hypotheses of a frame refine in parallel. The mesh must outlive the drawer. `source` names the
+mesh in the drawings (Drawing::source). */
 class CV_EXPORTS MeshDrawer : public ObjectDrawer
 {
 public:
-    MeshDrawer(const Mesh& mesh, int winding, Size image)
-        : mesh_(mesh), winding_(winding), image_(image)
+    MeshDrawer(const Mesh& mesh, int winding, Size image, uint64 source = 0)
+        : mesh_(mesh), winding_(winding), image_(image), source_(source)
     {
     }
     Size imageSize() const CV_OVERRIDE { return image_; }
@@ -110,6 +113,7 @@ private:
     const Mesh& mesh_;
     const int winding_;
     const Size image_;
+    const uint64 source_;
 };
 
 /** The OSMesa Renderer's drawing of mesh `handle`: the whole image (the public refinePose(),

@@ -11,6 +11,8 @@
 #include "pose_estimator.hpp"
 #include "pose_refine.hpp"
 
+#include <atomic>
+
 namespace cv {
 namespace forestmod {
 
@@ -69,7 +71,9 @@ PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids
 void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
 {
     mesh.validate();
+    static std::atomic<uint64> next_id(1);
     DrawnMesh d;
+    d.id = next_id++;
     d.diameter = mesh.diameter();
     d.mesh = coarseMesh(mesh, d.diameter / 64);
     d.winding = closedWinding(d.mesh);
@@ -181,7 +185,7 @@ MeshDrawer PoseEstimator::drawerOf(const String& class_id, Size size, double& di
     const DrawnMesh* d = drawnMesh(class_id);
     CV_Assert(d);
     diameter = d->diameter;
-    return MeshDrawer(d->mesh, d->winding, size);
+    return MeshDrawer(d->mesh, d->winding, size, d->id);
 }
 
 void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,

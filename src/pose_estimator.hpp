@@ -27,6 +27,7 @@ clustered on a grid of 1/64 of the diameter), its closedWinding(), the full mesh
 and each face's colour in HSV (faceColours(), for the verification's colour score). */
 struct DrawnMesh
 {
+    uint64 id; //!< unique over the process (a mesh set again gets a new one): Drawing::source
     Mesh mesh;
     int winding;
     double diameter;

@@ -464,8 +464,8 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
         meshes.push_back(mesh);
     }
     // 2. each drawn in its crop and scored against the scene there
-    // (the pose stage's last drawing of a hypothesis when it is this one: same mesh, pose,
-    // camera and crop margin)
+    // (the pose stage's last drawing of a hypothesis when it is this one: same mesh (the one set
+    // now), pose, camera and crop margin)
     const int margin = std::max(kDrawMargin, cvCeil(p.edge_distance) + 4);
     parallel_for_(Range(0, (int)todo.size()), [&](const Range& range) {
         for (int j = range.start; j < range.end; ++j)
@@ -474,7 +474,7 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
             const DrawnMesh& mesh = *meshes[j];
             Drawing own;
             const Drawing* d = m.drawing.get();
-            if (!d || !d->isOf(&mesh.mesh, K, m.R, m.t, color.size(), margin))
+            if (!d || !d->isOf(mesh.id, K, m.R, m.t, color.size(), margin))
             {
                 drawMesh(mesh.mesh, mesh.winding, K, m.R, m.t, color.size(), margin, own);
                 d = &own;

@@ -249,7 +249,8 @@ static std::vector<Vec4d> verifiedScores(const std::vector<PoseMatch>& matches)
 
 // The pose stage keeps its last drawing of each refined hypothesis (PoseMatch::drawing) and the
 // verification scores it instead of drawing again: the same scores as a drawing of its own; a
-// hypothesis moved since is drawn again; verify() releases the drawings.
+// hypothesis moved since, or whose class's mesh was set again, is drawn again; verify() releases
+// the drawings.
 TEST(Forestmod_Verification, the_pose_stages_drawing_is_scored_as_a_new_one)
 {
     const DecoyScene s;
@@ -298,6 +299,26 @@ TEST(Forestmod_Verification, the_pose_stages_drawing_is_scored_as_a_new_one)
         changed = std::max(changed, cvtest::norm(c[i], a[i], NORM_INF));
     }
     EXPECT_GT(changed, 0.02) << "the move changes the moved hypothesis' scores";
+    // the class's mesh set again (20 % larger) after the pose stage drew: drawn again
+    Mesh larger = s.ape;
+    const Point3f centre = s.ape.center();
+    for (size_t i = 0; i < larger.vertices.size(); ++i)
+        larger.vertices[i] = centre + 1.2f * (larger.vertices[i] - centre);
+    s.det->setMesh("ape", larger);
+    std::vector<PoseMatch> stale = hyp, redrawn = hyp;
+    for (size_t i = 0; i < redrawn.size(); ++i)
+        redrawn[i].drawing.release();
+    s.det->verify(s.color, noArray(), K, stale, vp, 0, maps);
+    s.det->verify(s.color, noArray(), K, redrawn, vp, 0, maps);
+    const std::vector<Vec4d> e = verifiedScores(stale), f = verifiedScores(redrawn);
+    ASSERT_EQ(e.size(), f.size());
+    changed = 0;
+    for (size_t i = 0; i < e.size(); ++i)
+    {
+        EXPECT_EQ(cvtest::norm(e[i], f[i], NORM_INF), 0.0) << i << ": " << e[i] << " " << f[i];
+        changed = std::max(changed, cvtest::norm(e[i], a[i], NORM_INF));
+    }
+    EXPECT_GT(changed, 0.02) << "the larger mesh changes the scores";
 }
 
 struct ApeView

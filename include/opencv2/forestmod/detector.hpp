@@ -304,7 +304,8 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
     CV_PROP_RW double region_score;
     /** The object as estimatePoses() last drew it, at exactly (R, t) (opaque): verify() scores
     that drawing instead of drawing the hypothesis again, and releases it; a drawing of another
-    pose or camera is not used. Empty when not drawn; release() it to free the memory. */
+    pose, camera or mesh (setMesh() since) is not used. Empty when not drawn; release() it to
+    free the memory. */
     Ptr<detail::Drawing> drawing;
 };
 
