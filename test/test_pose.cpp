@@ -176,9 +176,9 @@ TEST(Forestmod_Pose, icp_converges_on_rendered_ape_with_sensor_noise)
 TEST(Forestmod_Pose, icp_with_the_cpu_drawing_of_the_coarse_mesh)
 {
     using namespace cv::forestmod::detail;
-    MeshRenderer mr(apeMesh(), Size(640, 480));
-    const Mesh coarse = coarseMesh(mr.mesh, mr.mesh.diameter() / 64);
-    const MeshDrawer drawer(coarse, closedWinding(coarse), Size(640, 480));
+    CoarseApe ape;
+    MeshRenderer& mr = ape.mr;
+    const MeshDrawer& drawer = ape.drawer;
     RNG rng_renderer(20161025), rng_drawn(20161025);
     const int trials = 30;
     int good_renderer = 0, good_drawn = 0;

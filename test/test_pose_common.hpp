@@ -8,6 +8,7 @@
 #define OPENCV_FORESTMOD_TEST_POSE_COMMON_HPP
 
 #include "opencv2/calib3d.hpp"
+#include "../src/draw_mesh.hpp"
 
 
 namespace opencv_test {
@@ -45,6 +46,22 @@ struct MeshRenderer
     Mesh mesh;
     Ptr<Renderer> renderer;
     int handle;
+};
+
+/** The ape drawn both ways for 640 x 480 images: the renderer of its full mesh, and the CPU
+drawing of the coarse copy that the detector's poses draw (coarseMesh, cells of 1/64 of the
+diameter). */
+struct CoarseApe
+{
+    CoarseApe()
+        : mr(apeMesh(), Size(640, 480)),
+          coarse(cv::forestmod::detail::coarseMesh(mr.mesh, mr.mesh.diameter() / 64)),
+          drawer(coarse, cv::forestmod::detail::closedWinding(coarse), Size(640, 480))
+    {
+    }
+    MeshRenderer mr;
+    const Mesh coarse;
+    const cv::forestmod::detail::MeshDrawer drawer;
 };
 
 /** Kinect-like depth (CV_16UC1 mm) from an ideal float depth (mm):

@@ -96,17 +96,15 @@ TEST(Forestmod_PoseEdges, refinement_recovers_pose_on_rendered_object_over_real_
 // hypotheses in parallel): as accurate as the OSMesa rendering of the full mesh, same trials.
 TEST(Forestmod_PoseEdges, refinement_with_the_cpu_drawing_of_the_coarse_mesh)
 {
-    using namespace cv::forestmod::detail;
-    MeshRenderer mr(apeMesh(), Size(640, 480));
-    const Mesh coarse = coarseMesh(mr.mesh, mr.mesh.diameter() / 64);
-    const MeshDrawer drawer(coarse, closedWinding(coarse), Size(640, 480));
+    CoarseApe ape;
+    MeshRenderer& mr = ape.mr;
     RNG rng_renderer(20261122), rng_drawn(20261122);
     const int trials = 20;
     int good_renderer = 0, good_drawn = 0;
     for (int i = 0; i < trials; ++i)
     {
         const EdgeTrial a = runEdgeTrial(mr, rng_renderer, 10.0);
-        const EdgeTrial b = runEdgeTrial(mr, rng_drawn, 10.0, EdgeRefineParams(), &drawer);
+        const EdgeTrial b = runEdgeTrial(mr, rng_drawn, 10.0, EdgeRefineParams(), &ape.drawer);
         ASSERT_EQ(a.before, b.before) << i; // the same start
         EXPECT_GT(b.res.points, 20) << i;
         good_renderer += a.after < 2.0;

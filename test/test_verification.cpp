@@ -247,6 +247,37 @@ static std::vector<Vec4d> verifiedScores(const std::vector<PoseMatch>& matches)
     return s;
 }
 
+// verify() of the hypotheses with their drawings and with the drawings released: the same scores
+// (returned), and no drawing left after it
+static std::vector<Vec4d> scoresOfKeptDrawings(const DecoyScene& s,
+                                               const std::vector<PoseMatch>& hyp,
+                                               const EdgeMaps& maps)
+{
+    const Matx33d K = lmoIntrinsics();
+    std::vector<PoseMatch> kept = hyp, fresh = hyp;
+    for (size_t i = 0; i < fresh.size(); ++i)
+        fresh[i].drawing.release();
+    s.det->verify(s.color, noArray(), K, kept, VerificationParams(), 0, maps);
+    s.det->verify(s.color, noArray(), K, fresh, VerificationParams(), 0, maps);
+    for (size_t i = 0; i < kept.size(); ++i)
+        EXPECT_FALSE(kept[i].drawing) << "verify() releases the drawings";
+    const std::vector<Vec4d> a = verifiedScores(kept), b = verifiedScores(fresh);
+    EXPECT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+        EXPECT_EQ(cvtest::norm(a[i], b[i], NORM_INF), 0.0) << i << ": " << a[i] << " " << b[i];
+    return a;
+}
+
+// the largest change of any score between two lists of verifiedScores()
+static double largestChange(const std::vector<Vec4d>& a, const std::vector<Vec4d>& b)
+{
+    EXPECT_EQ(a.size(), b.size());
+    double changed = 0;
+    for (size_t i = 0; i < std::min(a.size(), b.size()); ++i)
+        changed = std::max(changed, cvtest::norm(a[i], b[i], NORM_INF));
+    return changed;
+}
+
 // The pose stage keeps its last drawing of each refined hypothesis (PoseMatch::drawing) and the
 // verification scores it instead of drawing again: the same scores as a drawing of its own; a
 // hypothesis moved since, or whose class's mesh was set again, is drawn again; verify() releases
@@ -254,11 +285,10 @@ static std::vector<Vec4d> verifiedScores(const std::vector<PoseMatch>& matches)
 TEST(Forestmod_Verification, the_pose_stages_drawing_is_scored_as_a_new_one)
 {
     const DecoyScene s;
-    const Matx33d K = lmoIntrinsics();
     std::vector<PoseMatch> hyp = s.matches();
     ASSERT_GE(hyp.size(), 2u);
     EdgeMaps maps;
-    s.det->estimatePoses(noArray(), K, hyp, PoseParams(), s.color, maps);
+    s.det->estimatePoses(noArray(), lmoIntrinsics(), hyp, PoseParams(), s.color, maps);
     int drawn = 0, first = -1;
     for (size_t i = 0; i < hyp.size(); ++i)
     {
@@ -269,56 +299,21 @@ TEST(Forestmod_Verification, the_pose_stages_drawing_is_scored_as_a_new_one)
         ++drawn;
     }
     ASSERT_GE(drawn, 2);
-    const VerificationParams vp;
-    std::vector<PoseMatch> kept = hyp, fresh = hyp;
-    for (size_t i = 0; i < fresh.size(); ++i)
-        fresh[i].drawing.release();
-    s.det->verify(s.color, noArray(), K, kept, vp, 0, maps);
-    s.det->verify(s.color, noArray(), K, fresh, vp, 0, maps);
-    for (size_t i = 0; i < kept.size(); ++i)
-        EXPECT_FALSE(kept[i].drawing) << "verify() releases the drawings";
-    const std::vector<Vec4d> a = verifiedScores(kept), b = verifiedScores(fresh);
-    ASSERT_EQ(a.size(), b.size());
-    EXPECT_GE(a.size(), 2u);
-    for (size_t i = 0; i < a.size(); ++i)
-        EXPECT_EQ(cvtest::norm(a[i], b[i], NORM_INF), 0.0) << i << ": " << a[i] << " " << b[i];
+    const std::vector<Vec4d> scores = scoresOfKeptDrawings(s, hyp, maps);
+    EXPECT_GE(scores.size(), 2u);
     // one hypothesis moved by 12 mm (about 9 px) after the pose stage drew it
-    std::vector<PoseMatch> moved = hyp, moved_fresh = hyp;
+    std::vector<PoseMatch> moved = hyp;
     moved[first].t += Vec3d(12, 0, 0);
-    moved_fresh[first].t += Vec3d(12, 0, 0);
-    for (size_t i = 0; i < moved_fresh.size(); ++i)
-        moved_fresh[i].drawing.release();
-    s.det->verify(s.color, noArray(), K, moved, vp, 0, maps);
-    s.det->verify(s.color, noArray(), K, moved_fresh, vp, 0, maps);
-    const std::vector<Vec4d> c = verifiedScores(moved), d = verifiedScores(moved_fresh);
-    ASSERT_EQ(c.size(), d.size());
-    double changed = 0;
-    for (size_t i = 0; i < c.size(); ++i)
-    {
-        EXPECT_EQ(cvtest::norm(c[i], d[i], NORM_INF), 0.0) << i << ": " << c[i] << " " << d[i];
-        changed = std::max(changed, cvtest::norm(c[i], a[i], NORM_INF));
-    }
-    EXPECT_GT(changed, 0.02) << "the move changes the moved hypothesis' scores";
+    EXPECT_GT(largestChange(scoresOfKeptDrawings(s, moved, maps), scores), 0.02)
+        << "the move changes the moved hypothesis' scores";
     // the class's mesh set again (20 % larger) after the pose stage drew: drawn again
     Mesh larger = s.ape;
     const Point3f centre = s.ape.center();
     for (size_t i = 0; i < larger.vertices.size(); ++i)
         larger.vertices[i] = centre + 1.2f * (larger.vertices[i] - centre);
     s.det->setMesh("ape", larger);
-    std::vector<PoseMatch> stale = hyp, redrawn = hyp;
-    for (size_t i = 0; i < redrawn.size(); ++i)
-        redrawn[i].drawing.release();
-    s.det->verify(s.color, noArray(), K, stale, vp, 0, maps);
-    s.det->verify(s.color, noArray(), K, redrawn, vp, 0, maps);
-    const std::vector<Vec4d> e = verifiedScores(stale), f = verifiedScores(redrawn);
-    ASSERT_EQ(e.size(), f.size());
-    changed = 0;
-    for (size_t i = 0; i < e.size(); ++i)
-    {
-        EXPECT_EQ(cvtest::norm(e[i], f[i], NORM_INF), 0.0) << i << ": " << e[i] << " " << f[i];
-        changed = std::max(changed, cvtest::norm(e[i], a[i], NORM_INF));
-    }
-    EXPECT_GT(changed, 0.02) << "the larger mesh changes the scores";
+    EXPECT_GT(largestChange(scoresOfKeptDrawings(s, hyp, maps), scores), 0.02)
+        << "the larger mesh changes the scores";
 }
 
 struct ApeView
@@ -333,6 +328,12 @@ struct ApeView
         v = ViewSampler(ViewSampler::Params::coarse())
                 .poses(Point3d(ape.center().x, ape.center().y, ape.center().z))[2];
     }
+    // `det` with the ape's mesh for class "ape"
+    Ptr<cv::forestmod::Detector> withApe(const Ptr<cv::forestmod::Detector>& det) const
+    {
+        det->setMesh("ape", ape);
+        return det;
+    }
 };
 
 // With depth: a flat picture of the object (its colours and contour, on a plane) ranked above
@@ -340,14 +341,12 @@ struct ApeView
 TEST(Forestmod_Verification, flat_picture_loses_on_depth)
 {
     const ApeView scene;
-    const Mesh& ape = scene.ape;
     const Matx33d& K = scene.K;
     const ViewPose& v = scene.v;
-    Ptr<cv::forestmod::Detector> det = getDefaultForestLINEMOD();
-    det->setMesh("ape", ape);
+    Ptr<cv::forestmod::Detector> det = scene.withApe(getDefaultForestLINEMOD());
     const Vec3d t_obj = v.t + Vec3d(-120, 0, 0), t_pic = v.t + Vec3d(120, 0, 0);
     Ptr<Renderer> r = Renderer::create(Size(640, 480));
-    const int h = r->addMesh(ape);
+    const int h = r->addMesh(scene.ape);
     Mat color(480, 640, CV_8UC3, Scalar(95, 105, 100));
     Mat depth(480, 640, CV_16UC1, Scalar(v.t[2] + 150)); // a wall behind both
     Mat c, d, k;
@@ -387,11 +386,9 @@ TEST(Forestmod_Verification, flat_picture_loses_on_depth)
 TEST(Forestmod_Verification, region_score_separates_the_object_from_its_surroundings)
 {
     const ApeView scene;
-    const Mesh& ape = scene.ape;
     const Matx33d& K = scene.K;
     const ViewPose& v = scene.v;
-    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
-    det->setMesh("ape", ape);
+    Ptr<cv::forestmod::Detector> det = scene.withApe(getDefaultForestLINE());
     const Vec3d t_obj = v.t + Vec3d(-120, 0, 0), t_plain = v.t + Vec3d(0, -90, 0),
                 t_clutter = v.t + Vec3d(120, 0, 0);
     Mat color(480, 640, CV_8UC3, Scalar(200, 60, 20)); // saturated blue: not the ape's colours
@@ -403,7 +400,7 @@ TEST(Forestmod_Verification, region_score_separates_the_object_from_its_surround
                                                  rng.uniform(0, 256)));
     Ptr<Renderer> r = Renderer::create(Size(640, 480));
     Mat c, k;
-    r->render(r->addMesh(ape), v.R, t_obj, K, c, noArray(), k);
+    r->render(r->addMesh(scene.ape), v.R, t_obj, K, c, noArray(), k);
     c.copyTo(color, k);
     std::vector<PoseMatch> m(3);
     const Vec3d ts[3] = { t_obj, t_plain, t_clutter };
