@@ -403,16 +403,11 @@ double depthCheck(const ObjectDrawer& drawer, InputArray scene_depth, const Matx
 {
     Mat scene = getDepth16(scene_depth, "depthCheck", "scene_depth");
     checkDrawing(drawer, scene, "depthCheck");
-    Mat depth, mask;
-    Rect rect;
+    const Ptr<Drawing> d = drawer.drawing(K, R, t);
     if (drawn)
-    {
-        *drawn = drawer.drawing(K, R, t);
-        rect = (*drawn)->rect;
-        depth = (*drawn)->depth;
-    }
-    else
-        drawer.draw(K, R, t, rect, depth, mask);
+        *drawn = d;
+    const Rect rect = d->rect;
+    const Mat& depth = d->depth;
     if (depth.empty())
     {
         if (!(tolerance_mm > 0))

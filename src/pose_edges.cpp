@@ -200,17 +200,11 @@ static void extractEdgePoints(const detail::ObjectDrawer& drawer, const Matx33d&
                               std::vector<EdgePoint>& pts, Ptr<detail::Drawing>* keep = 0)
 {
     pts.clear();
-    Mat depth, mask;
-    Rect crop;
+    const Ptr<detail::Drawing> drawn = drawer.drawing(K, R, t);
     if (keep)
-    {
-        *keep = drawer.drawing(K, R, t);
-        crop = (*keep)->rect;
-        depth = (*keep)->depth;
-        mask = (*keep)->mask;
-    }
-    else
-        drawer.draw(K, R, t, crop, depth, mask);
+        *keep = drawn;
+    const Rect crop = drawn->rect;
+    const Mat &depth = drawn->depth, &mask = drawn->mask;
     if (mask.empty())
         return;
     const Rect box = boundingRect(mask);
