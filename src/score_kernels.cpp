@@ -48,13 +48,14 @@ void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zer
     FORESTMOD_DISPATCH(countAccepted8(dst, src, n, labels, zero_ok));
 }
 
-int positionsAbove16(const ushort* src, int n, ushort threshold, int* out)
+int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort threshold,
+                       ushort scale, int* out)
 {
 #ifdef FORESTMOD_HAVE_AVX2
     if (useAVX2())
-        return opt_AVX2::positionsAbove16(src, n, threshold, out);
+        return opt_AVX2::positionsPassing16(src, bar, n, threshold, scale, out);
 #endif
-    return cpu_baseline::positionsAbove16(src, n, threshold, out);
+    return cpu_baseline::positionsPassing16(src, bar, n, threshold, scale, out);
 }
 
 const char* kernelsPath()

@@ -37,10 +37,12 @@ CV_EXPORTS void countLabels8(uchar* dst, const uchar* src, int n);
 zero_ok for the value 0 (rejector.hpp's look-up); 8-bit with wrap-around as countLabels8. */
 CV_EXPORTS void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels,
                                uchar zero_ok);
-/** The indices i in [0, n) where src[i] > threshold, ascending, into out (room for n); returns
-their number: the exhaustive search's scan of a template's scores (most positions stay under the
-threshold: one vector comparison per 8 or 16 of them). */
-CV_EXPORTS int positionsAbove16(const ushort* src, int n, ushort threshold, int* out);
+/** The indices i in [0, n) where src[i] > threshold and src[i] >= (bar[i] x scale) >> 16,
+ascending, into out (room for n); returns their number: the exhaustive search's scan of a
+template's scores against the threshold and each position's entry bar (most positions stay
+under them: one vector comparison per 8 or 16 of them). bar[i] = 0 tests the threshold alone. */
+CV_EXPORTS int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort threshold,
+                                  ushort scale, int* out);
 
 } // namespace detail
 } // namespace forestmod

@@ -27,7 +27,8 @@ void widenAdd(ushort* dst, const uchar* src, int n);
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
 void countLabels8(uchar* dst, const uchar* src, int n);
 void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok);
-int positionsAbove16(const ushort* src, int n, ushort threshold, int* out);
+int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort threshold,
+                       ushort scale, int* out);
 
 #ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
@@ -187,20 +188,24 @@ void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zer
         dst[k] = (uchar)(dst[k] + (src[k] ? (src[k] & labels) != 0 : zero_ok != 0));
 }
 
-int positionsAbove16(const ushort* src, int n, ushort threshold, int* out)
+int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort threshold,
+                       ushort scale, int* out)
 {
     int k = 0, found = 0;
 #if CV_SIMD
     const int w = v_uint16::nlanes;
-    const v_uint16 t = vx_setall_u16(threshold);
+    const v_uint16 t = vx_setall_u16(threshold), s = vx_setall_u16(scale);
     for (; k <= n - w; k += w)
-        if (v_check_any(vx_load(src + k) > t))
+    {
+        const v_uint16 v = vx_load(src + k);
+        if (v_check_any((v > t) & (v >= v_mul_hi(vx_load(bar + k), s))))
             for (int j = k; j < k + w; ++j)
-                if (src[j] > threshold)
+                if (src[j] > threshold && src[j] >= (bar[j] * (unsigned)scale) >> 16)
                     out[found++] = j;
+    }
 #endif
     for (; k < n; ++k)
-        if (src[k] > threshold)
+        if (src[k] > threshold && src[k] >= (bar[k] * (unsigned)scale) >> 16)
             out[found++] = k;
     return found;
 }

@@ -317,6 +317,49 @@ static void depthRange(SearchIndex& index, const ClassPyramids& pyramids,
             index.depth_probe.push_back(Point(dx * h3, dy * h3));
 }
 
+Size coarseFeatures(const TemplatePyramid& tp, int level_index, int num_modalities, int T,
+                    std::vector<CoarseFeature>& features)
+{
+    CV_Assert(T > 0 && (int)tp.size() >= (level_index + 1) * num_modalities);
+    const Template& t0 = tp[level_index * num_modalities];
+    for (int m = 0; m < num_modalities; ++m)
+    {
+        const Template& t = tp[level_index * num_modalities + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const linemod::Feature& f = t.features[i];
+            // features lie in [0, width] x [0, height] (model_check.cpp): one cell beyond the
+            // positions' cells at most
+            if (f.x < 0 || f.y < 0 || f.x > t0.width || f.y > t0.height)
+                continue;
+            const int cx = f.x / T, cy = f.y / T;
+            CoarseFeature c;
+            c.memory = (m * 8 + f.label) * T * T + (f.y - cy * T) * T + (f.x - cx * T);
+            c.cx = static_cast<short>(cx);
+            c.cy = static_cast<short>(cy);
+            features.push_back(c);
+        }
+    }
+    return Size((t0.width - 1) / T + 1, (t0.height - 1) / T + 1);
+}
+
+static void buildCoarseRuns(SearchIndex& index, const ClassPyramids& pyramids, int M, int L,
+                            int T)
+{
+    CoarseRuns& c = index.coarse;
+    c.features.clear();
+    c.begin.assign(1, 0);
+    c.cells.clear();
+    c.total.clear();
+    for (size_t r = 0; r < index.rows.size(); ++r)
+    {
+        const TemplatePyramid& tp = pyramidOf(pyramids, index.rows[r]);
+        c.cells.push_back(coarseFeatures(tp, L, M, T, c.features));
+        c.begin.push_back(static_cast<int>(c.features.size()));
+        c.total.push_back(numFeatures(tp, L, M));
+    }
+}
+
 // Everything training derives from the templates besides the forests: groups, windows,
 // descriptors per group, rejection limits. Deterministic: load() runs it too.
 static void prepare(SearchIndex& index, const ClassPyramids& pyramids, const TemplateStore& store,
@@ -332,6 +375,7 @@ static void prepare(SearchIndex& index, const ClassPyramids& pyramids, const Tem
         groupDescriptors(index, index.groups[gi], pyramids, store, params, M, L, T, descs[gi],
                          fgs[gi], idss[gi]);
     depthRange(index, pyramids, store, M, L);
+    buildCoarseRuns(index, pyramids, M, L, T);
 }
 
 // Automatic forest depth (DetectorParams::auto_depth_leaf_samples).
@@ -406,6 +450,7 @@ void SearchIndex::clear()
     z_min = z_max = 0;
     depth_probe.clear();
     max_extent = 0;
+    coarse = CoarseRuns();
     trained = false;
 }
 

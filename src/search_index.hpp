@@ -23,6 +23,36 @@ struct TemplateRef
     int template_id;
 };
 
+/** A template's feature at the coarsest level, as LINEMOD's linearized memories on that level's
+T grid read it: `memory` is (modality x 8 + label) x T^2 + dy x T + dx for the feature's phase
+(dx, dy) in its T x T cell, (cx, cy) that cell from the template's top-left cell. In a frame
+whose memories are `stride` x `rows` cells, the feature's responses at every position of the
+T grid are the run starting at memory x stride x rows + cy x stride + cx
+(LinearMemories::index). */
+struct CoarseFeature
+{
+    int memory;
+    short cx, cy;
+};
+
+/** Every template's coarsest-level features for the exhaustive search, made once per model
+(not per frame, and read without touching the templates): row r's are features[begin[r]] ..
+features[begin[r + 1]], its box covers cells[r] cells of the T grid, and its score's
+denominator is total[r] features (numFeatures: every modality's, those left out included). */
+struct CoarseRuns
+{
+    std::vector<CoarseFeature> features;
+    std::vector<int> begin;
+    std::vector<Size> cells;
+    std::vector<int> total;
+};
+
+/** Appends the features of `tp` at level `level_index` (modality by modality, in the template's
+order) that lie in its box (a feature beyond it, which only a hostile model file holds, is left
+out) and returns its size in cells of T. */
+CV_EXPORTS Size coarseFeatures(const TemplatePyramid& tp, int level_index, int num_modalities,
+                               int T, std::vector<CoarseFeature>& features);
+
 /** One search group: templates of similar size sharing a descriptor window and a forest. */
 struct SearchGroup
 {
@@ -44,6 +74,7 @@ struct SearchIndex
     int z_min, z_max;                     //!< depth range (mm) of the templates' depth samples
     std::vector<Point> depth_probe;       //!< offsets (coarsest level) of the depth-range probes
     int max_extent;                       //!< largest template side (level 0 pixels)
+    CoarseRuns coarse;                    //!< [row]: its features for the exhaustive search
     bool trained;
 
     SearchIndex() : z_min(0), z_max(0), max_extent(0), trained(false) {}

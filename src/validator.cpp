@@ -169,41 +169,37 @@ void LinearMemories::featureOffsets(const TemplatePyramid& tp, int level_index, 
 // 16-bit sums: at most this many features (4 each)
 static const int kMaxSum16 = 65535 / 4;
 
-bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
-                     int num_modalities, int& span_x, int& span_y, std::vector<ushort>& scores)
+// The raw scores of a template given by its coarsest-level features `f` (CoarseRuns) at every
+// position of the T grid where its box of `cells` fits.
+static bool scoreRuns(const LinearMemories& lm, const CoarseFeature* f, int n_f, Size cells,
+                      int& span_x, int& span_y, std::vector<ushort>& scores)
 {
-    const int T = lm.T, M = num_modalities;
-    const cv::linemod::Template& t0 = tp[level_index * M];
-    span_x = lm.cells_x - ((t0.width - 1) / T + 1);
-    span_y = lm.cells_y - ((t0.height - 1) / T + 1);
+    span_x = lm.cells_x - cells.width;
+    span_y = lm.cells_y - cells.height;
     if (span_x < 0 || span_y < 0)
         return false;
-    // every feature's run of the memories
+    // every feature's run of the memories (cx <= cells.width <= cells_x: no overflow)
     static thread_local std::vector<int> runs;
-    runs.clear();
-    for (int m = 0; m < M; ++m)
-    {
-        const cv::linemod::Template& t = tp[level_index * M + m];
-        for (size_t i = 0; i < t.features.size(); ++i)
-        {
-            const cv::linemod::Feature& f = t.features[i];
-            // features lie in [0, width] x [0, height] (model_check.cpp): one cell beyond the
-            // positions' cells at most
-            if (f.x < 0 || f.y < 0 || f.x > t0.width || f.y > t0.height)
-                continue;
-            const int qx = lm.div_T[f.x], qy = lm.div_T[f.y]; // f.x <= width < stride T
-            runs.push_back(static_cast<int>(lm.index(m, f.label, f.x - qx * T, f.y - qy * T))
-                           + qy * lm.stride + qx);
-        }
-    }
+    runs.resize(n_f);
+    const int plane = lm.stride * lm.rows;
+    for (int k = 0; k < n_f; ++k)
+        runs[k] = f[k].memory * plane + f[k].cy * lm.stride + f[k].cx;
     // positions r * stride + c, the row ends included (they wrap: scored, never reported); the
     // kernel writes whole vectors
     const int n = span_y * lm.stride + span_x + 1;
     scores.resize(n + LinearMemories::kSlack);
-    sumRuns16(&scores[0], &lm.data[0], runs.empty() ? 0 : &runs[0],
-              static_cast<int>(runs.size()), n);
+    sumRuns16(&scores[0], &lm.data[0], runs.empty() ? 0 : &runs[0], n_f, n);
     scores.resize(n);
     return true;
+}
+
+bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                     int num_modalities, int& span_x, int& span_y, std::vector<ushort>& scores)
+{
+    std::vector<CoarseFeature> f;
+    const Size cells = coarseFeatures(tp, level_index, num_modalities, lm.T, f);
+    return scoreRuns(lm, f.empty() ? 0 : &f[0], static_cast<int>(f.size()), cells, span_x,
+                     span_y, scores);
 }
 
 namespace {
@@ -270,6 +266,79 @@ bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_i
     return true;
 }
 
+// A position's entry bar once its list of k best is full: a template can then only enter with
+// raw / total >= last.raw / last.total, which implies raw >= (bar x 4 total) >> 16 for
+// bar = floor(65536 last.raw / (4 last.total)). A filter that never refuses an entrant (the
+// exact comparison is keepBest's); 0 while the list has room.
+static inline ushort entryBar(const Scored& last)
+{
+    if (last.row < 0)
+        return 0;
+    const int64 q = ((int64)last.raw << 16) / (4 * (int64)last.total);
+    return static_cast<ushort>(std::min<int64>(q, 65535));
+}
+
+// The templates rows[i0 .. i1) at every position: each position's best K in `best` (lists of
+// the T grid's cells, row-major), its entry bar in `bar` (the scores' layout r * stride + c).
+static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& lm,
+                            const SearchIndex& index, const ClassPyramids& pyramids,
+                            const std::vector<int>& rows, int i0, int i1, float threshold, int K,
+                            Scored* best, ushort* bar)
+{
+    const int M = top.modalities(), T = top.T;
+    const CoarseRuns& coarse = index.coarse;
+    std::vector<ushort> scores;
+    std::vector<int> hits;
+    for (int i = i0; i < i1; ++i)
+    {
+        int span_x = 0, span_y = 0;
+        Scored sc;
+        sc.total = coarse.total[rows[i]];
+        if (sc.total > kMaxSum16) // beyond 16-bit sums (hostile model files only)
+        {
+            const TemplateRef& ref = index.rows[rows[i]];
+            const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
+            const cv::linemod::Template& t0 = tp[L * M];
+            span_x = lm.cells_x - ((t0.width - 1) / T + 1);
+            span_y = lm.cells_y - ((t0.height - 1) / T + 1);
+            if (span_x < 0 || span_y < 0)
+                continue;
+            scores.assign((size_t)(span_y + 1) * lm.stride, 0);
+            for (int r = 0; r <= span_y; ++r)
+                for (int c = 0; c <= span_x; ++c)
+                    scores[(size_t)r * lm.stride + c] = (ushort)std::min(
+                        65535, similarityAll(top, tp, L, Point(c * T, r * T)));
+        }
+        else
+        {
+            const int b = coarse.begin[rows[i]], e = coarse.begin[rows[i] + 1];
+            if (!scoreRuns(lm, b < e ? &coarse.features[b] : 0, e - b, coarse.cells[rows[i]],
+                           span_x, span_y, scores))
+                continue;
+        }
+        sc.row = rows[i];
+        const int raw_thr = rawThreshold(threshold, sc.total);
+        if (raw_thr >= 65535)
+            continue;
+        // one scan over the positions r * stride + c; the row ends (c > span_x) wrap
+        const int n_pos = span_y * lm.stride + span_x + 1;
+        hits.resize(n_pos);
+        const int n_hits = positionsPassing16(&scores[0], bar, n_pos, (ushort)raw_thr,
+                                              (ushort)std::min(65535, 4 * sc.total), &hits[0]);
+        for (int h = 0; h < n_hits; ++h)
+        {
+            const int p = hits[h];
+            const int r = p / lm.stride, c = p - r * lm.stride;
+            if (c > span_x)
+                continue;
+            sc.raw = scores[p];
+            Scored* list = best + (size_t)(r * lm.cells_x + c) * K;
+            keepBest(list, K, sc);
+            bar[p] = entryBar(list[K - 1]);
+        }
+    }
+}
+
 // Every asked-for template of the exhaustive groups at every position of the T grid (cv::linemod's
 // positions and scores); each position keeps its best `keep` templates over the threshold as
 // coarse matches (row-major positions, best first): max_survivors for each of the (T / step)^2
@@ -280,10 +349,10 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
-    const int M = top.modalities();
     const int T = top.T;
     const int K = keep;
     const int offset = T / 2 + (T % 2 - 1);
+    CV_Assert(index.coarse.begin.size() == index.rows.size() + 1);
     LinearMemories lm;
     lm.build(top);
     const int P = lm.cells_x * lm.cells_y;
@@ -293,52 +362,13 @@ static void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index
     Scored none = { 0, 1, -1 };
     std::vector<std::vector<Scored> > best(blocks, std::vector<Scored>((size_t)P * K, none));
     parallel_for_(Range(0, blocks), [&](const Range& range) {
-        std::vector<ushort> scores;
-        std::vector<int> hits;
+        std::vector<ushort> bar((size_t)lm.stride * lm.cells_y);
         for (int b = range.start; b < range.end; ++b)
         {
-            Scored* bb = &best[b][0];
-            for (int i = (int)((int64)n * b / blocks); i < (int)((int64)n * (b + 1) / blocks); ++i)
-            {
-                const TemplateRef& ref = index.rows[rows[i]];
-                const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
-                int span_x = 0, span_y = 0;
-                Scored sc;
-                sc.total = numFeatures(tp, L, M);
-                if (sc.total > kMaxSum16) // beyond 16-bit sums (hostile model files only)
-                {
-                    const cv::linemod::Template& t0 = tp[L * M];
-                    span_x = lm.cells_x - ((t0.width - 1) / T + 1);
-                    span_y = lm.cells_y - ((t0.height - 1) / T + 1);
-                    if (span_x < 0 || span_y < 0)
-                        continue;
-                    scores.assign((size_t)(span_y + 1) * lm.stride, 0);
-                    for (int r = 0; r <= span_y; ++r)
-                        for (int c = 0; c <= span_x; ++c)
-                            scores[(size_t)r * lm.stride + c] = (ushort)std::min(
-                                65535, similarityAll(top, tp, L, Point(c * T, r * T)));
-                }
-                else if (!scoreEverywhere(lm, tp, L, M, span_x, span_y, scores))
-                    continue;
-                sc.row = rows[i];
-                const int raw_thr = rawThreshold(threshold, sc.total);
-                if (raw_thr >= 65535)
-                    continue;
-                // one scan over the positions r * stride + c; the row ends (c > span_x) wrap
-                const int n_pos = span_y * lm.stride + span_x + 1;
-                hits.resize(n_pos);
-                const int n_hits = positionsAbove16(&scores[0], n_pos, (ushort)raw_thr,
-                                                    &hits[0]);
-                for (int h = 0; h < n_hits; ++h)
-                {
-                    const int p = hits[h];
-                    const int r = p / lm.stride, c = p - r * lm.stride;
-                    if (c > span_x)
-                        continue;
-                    sc.raw = scores[p];
-                    keepBest(bb + (size_t)(r * lm.cells_x + c) * K, K, sc);
-                }
-            }
+            std::fill(bar.begin(), bar.end(), (ushort)0);
+            searchTemplates(top, L, lm, index, pyramids, rows, (int)((int64)n * b / blocks),
+                            (int)((int64)n * (b + 1) / blocks), threshold, K, &best[b][0],
+                            &bar[0]);
         }
     });
     for (int b = 1; b < blocks; ++b)

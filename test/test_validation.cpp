@@ -263,24 +263,32 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
         ASSERT_EQ(out[0][0][k], out[1][0][k]) << k;
         ASSERT_EQ(out[0][1][k], out[1][1][k]) << k;
     }
-    // the exhaustive search's threshold scan: every position over the threshold found, in order
-    std::vector<ushort> sc(203);
+    // the exhaustive search's scan: every position over the threshold and over its entry bar
+    // ((bar x scale) >> 16, the bar 0 on most positions) found, in order
+    std::vector<ushort> sc(203), bar(203, 0);
     for (size_t k = 0; k < sc.size(); ++k)
+    {
         sc[k] = (ushort)(k % 37 == 5 || k == 202 ? 1000 + k : rng.uniform(0, 1001));
+        if (k % 5 == 0 && k % 37 != 5) // random bars under the threshold
+            bar[k] = (ushort)rng.uniform(0, 65536);
+    }
+    bar[5] = 65535;  // 1005 < (65535 x 1200) >> 16 = 1199: refused by its bar
+    bar[42] = 56000; // 1042 >= (56000 x 1200) >> 16 = 1025: passes
     for (int pass = 0; pass < 2; ++pass)
     {
         setUseOptimized(pass == 0);
         for (int len : { 203, 202, 33, 1, 0 })
         {
             std::vector<int> found(std::max(len, 1)), expect;
-            found.resize(positionsAbove16(&sc[0], len, 1000, &found[0]));
+            found.resize(positionsPassing16(&sc[0], &bar[0], len, 1000, 1200, &found[0]));
             for (int c = 0; c < len; ++c)
-                if (sc[c] > 1000)
+                if (sc[c] > 1000 && (int64)sc[c] * 65536 >= (int64)bar[c] * 1200 - 65535)
                     expect.push_back(c);
             EXPECT_EQ(expect, found) << "pass " << pass << " length " << len;
             if (len == 203)
             {
-                EXPECT_EQ(7u, found.size());
+                EXPECT_EQ(6u, found.size());
+                EXPECT_EQ(42, found[0]);
             }
         }
     }
