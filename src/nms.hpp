@@ -16,9 +16,13 @@ namespace detail {
 /** The box of a match: its template's level-0 extent at the match (at least 1 x 1). */
 Rect matchBox(const cv::linemod::Match& m, const ClassPyramids& pyramids);
 
-/** Greedy non-maximum suppression of matches sorted best first: leader[i] = -1 when match i is
-kept (no kept match before it overlaps its box by more than `iou`, intersection over union),
-else the index of the first kept match that does. */
+/** Greedy non-maximum suppression of boxes sorted best first, iou in (0, 1): leader[i] = -1
+when box i is kept (no kept box before it overlaps it by more than `iou`, intersection over
+union), else the index of the first kept box that does. */
+CV_EXPORTS void suppressOverlaps(const std::vector<Rect>& boxes, float iou,
+                                 std::vector<int>& leader);
+
+/** suppressOverlaps() of the matches' boxes (matchBox). */
 void nonMaximumSuppression(const std::vector<cv::linemod::Match>& matches,
                            const ClassPyramids& pyramids, float iou, std::vector<int>& leader);
 
