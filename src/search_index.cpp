@@ -334,7 +334,7 @@ Size coarseFeatures(const TemplatePyramid& tp, int level_index, int num_modaliti
                 continue;
             const int cx = f.x / T, cy = f.y / T;
             CoarseFeature c;
-            c.memory = (m * 8 + f.label) * T * T + (f.y - cy * T) * T + (f.x - cx * T);
+            c.memory = linearMemory(m, f.label, f.x - cx * T, f.y - cy * T, T);
             c.cx = static_cast<short>(cx);
             c.cy = static_cast<short>(cy);
             features.push_back(c);

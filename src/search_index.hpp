@@ -35,6 +35,13 @@ struct CoarseFeature
     short cx, cy;
 };
 
+/** The number of the linearized memory of a modality, label and phase (dx, dy) in a T x T cell:
+memories are stored in this order (LinearMemories::index). */
+static inline int linearMemory(int modality, int label, int dx, int dy, int T)
+{
+    return (modality * 8 + label) * T * T + dy * T + dx;
+}
+
 /** Every template's coarsest-level features for the exhaustive search, made once per model
 (not per frame, and read without touching the templates): row r's are features[begin[r]] ..
 features[begin[r + 1]], its box covers cells[r] cells of the T grid, and its score's

@@ -40,7 +40,7 @@ static void linearizeCells(const Mat& spread, int T, int cy, int c0, int c1, uch
                 gathered[k] = src[(c0 + k) * T + dx];
             uchar* d[8];
             for (int o = 0; o < 8; ++o)
-                d[o] = row + ((size_t)o * T * T + dy * T + dx) * plane + c0;
+                d[o] = row + (size_t)linearMemory(0, o, dx, dy, T) * plane + c0;
             spreadResponses(gathered, n, d);
         }
     }
@@ -324,7 +324,7 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
         const int n_pos = span_y * lm.stride + span_x + 1;
         hits.resize(n_pos);
         const int n_hits = positionsPassing16(&scores[0], bar, n_pos, (ushort)raw_thr,
-                                              (ushort)std::min(65535, 4 * sc.total), &hits[0]);
+                                              (ushort)(4 * sc.total), &hits[0]); // <= 65532
         for (int h = 0; h < n_hits; ++h)
         {
             const int p = hits[h];

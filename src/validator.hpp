@@ -55,7 +55,7 @@ struct CV_EXPORTS LinearMemories
     void buildGrid(const LevelMaps& level, int step, int border);
     size_t index(int modality, int label, int dx, int dy) const
     {
-        return ((size_t)(modality * 8 + label) * T * T + dy * T + dx) * (size_t)(stride * rows);
+        return (size_t)linearMemory(modality, label, dx, dy, T) * (size_t)(stride * rows);
     }
     const uchar* memory(int modality, int label, int dx, int dy) const
     {
