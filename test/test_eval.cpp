@@ -634,4 +634,22 @@ TEST(Forestmod_Eval, samples_answer_help_and_reject_a_missing_input)
     }
 }
 
+// Option values out of range are refused, with a message naming the option, before any data is
+// read (the dataset here does not exist).
+TEST(Forestmod_Eval, out_of_range_options_are_refused)
+{
+    const TempDir tmp("forestmod_eval_options");
+    const std::string exe = samplePath("forestmod_eval");
+    const char* bad[] = { "--rgb_hypotheses=0", "--verify_k=0" };
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); ++i)
+    {
+        std::string out, err;
+        const int code = run("'" + exe + "' --dataset='" + tmp.path + "/none' " + bad[i], tmp.path,
+                             out, err);
+        EXPECT_GT(code, 0) << bad[i];
+        const std::string name = std::string(bad[i]).substr(0, std::string(bad[i]).find('='));
+        EXPECT_NE(std::string::npos, err.find(name + " must be >= 1")) << bad[i] << ": " << err;
+    }
+}
+
 }} // namespace

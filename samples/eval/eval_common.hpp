@@ -41,6 +41,7 @@ struct EvalOptions
     std::vector<std::string> modalities_arg;
     float threshold;
     bool rgb_refine, rgb_grid;
+    int rgb_hypotheses;            //!< PoseParams::rgb_hypotheses
 
     std::string regime;            //!< "paper" or "quick"
     fm::ViewSampler::Params sampler;
@@ -231,13 +232,14 @@ struct RunContext
     bool use_depth;
     bool rgb_refine;
     bool rgb_grid;
+    int rgb_hypotheses;
     int repeat;
     Progress* progress;
     fm::VerificationParams verify; //!< top_k: hypotheses per object scored (recall@top_k)
 };
 
-/** The run's context from the options (--threshold, --rgb_refine, --rgb_grid, --repeat,
---verify_k, --verify_weights) for these frames and this progress line. */
+/** The run's context from the options (--threshold, --rgb_refine, --rgb_grid, --rgb_hypotheses,
+--repeat, --verify_k, --verify_weights) for these frames and this progress line. */
 RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& frames, bool use_depth,
                       Progress& progress);
 

@@ -41,6 +41,8 @@ static const char* const keys
       "{rgb_refine      | true     | without depth: refine the best match's pose by edge alignment "
       "(PoseParams::rgb_refine, refinePoseEdges), the pose chosen among the overlapping matches "
       "(PoseParams::rgb_hypotheses); false: score the best template's pose as is }"
+      "{rgb_hypotheses  |          | without depth: matches refined per location, the best edge "
+      "fit kept (PoseParams::rgb_hypotheses; default: the library's, 8) }"
       "{rgb_grid        | false    | the coarse grid search of refinePoseEdges before the "
       "refinement (EdgeRefineParams::search_angle 12 degrees; library default: off) }"
       "{regime          | paper    | template sampling: paper (LINEMOD's: level 2 ~16 deg views, "
@@ -94,7 +96,8 @@ static const char* const keys
 
 EvalOptions::EvalOptions()
     : scene(2), max_frames(0), first_frame(0), synthetic(0), rgb_only(false), threshold(80.f), rgb_refine(true),
-      rgb_grid(false), regime("paper"), tables(true), multi(true), heat_frames(3), threads(1),
+      rgb_grid(false), rgb_hypotheses(fm::PoseParams().rgb_hypotheses), regime("paper"),
+      tables(true), multi(true), heat_frames(3), threads(1),
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
@@ -213,6 +216,8 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.threshold = parser.get<float>("threshold");
     opt.rgb_refine = parser.get<bool>("rgb_refine");
     opt.rgb_grid = parser.get<bool>("rgb_grid");
+    if (parser.has("rgb_hypotheses"))
+        opt.rgb_hypotheses = parser.get<int>("rgb_hypotheses");
     opt.regime = parser.get<std::string>("regime");
     opt.dry_run = parser.has("dry_run");
     opt.tables = parser.get<bool>("tables");
@@ -292,6 +297,8 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
         if (!parseInts(objects_arg, opt.object_ids) || opt.object_ids.empty())
             return fail("--objects is a comma-separated list of ids");
     }
+    if (opt.rgb_hypotheses < 1)
+        return fail("--rgb_hypotheses must be >= 1");
     if (opt.verify_k < 1)
         return fail("--verify_k must be >= 1");
     if (!weights_arg.empty()

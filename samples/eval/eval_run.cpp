@@ -113,6 +113,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     pp.rgb_refine = ctx.rgb_refine;
     if (ctx.rgb_grid)
         pp.edge_params.search_angle = 12;
+    pp.rgb_hypotheses = ctx.rgb_hypotheses;
     // RGB-D: a location's first max_per_class matches go through ICP and the depth check, the
     // first one left is its hypothesis (LINEMOD ACCV 2012's post-processing). RGB: refined, the
     // pose is chosen among the matches of the class overlapping the location's first (as
@@ -373,6 +374,7 @@ RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& fram
     ctx.use_depth = use_depth;
     ctx.rgb_refine = opt.rgb_refine;
     ctx.rgb_grid = opt.rgb_grid;
+    ctx.rgb_hypotheses = opt.rgb_hypotheses;
     ctx.repeat = opt.repeat;
     ctx.progress = &progress;
     ctx.verify.top_k = opt.verify_k;
