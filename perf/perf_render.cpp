@@ -5,6 +5,7 @@
 #include "perf_precomp.hpp"
 
 #include "opencv2/core/utils/filesystem.hpp"
+#include "../src/draw_mesh.hpp"
 
 namespace opencv_test { namespace {
 
@@ -64,6 +65,34 @@ PERF_TEST_P(Forestmod_Render, renderTemplates_18_views, testing::Values("ape"))
         renderTemplates(mesh, sampler, K, Size(640, 480), out);
     }
     ASSERT_EQ(18u, out.size());
+    SANITY_CHECK_NOTHING();
+}
+
+typedef TestBaseWithParam<tuple<std::string, int> > Forestmod_DrawMesh;
+
+// What the detector's pose stage and verification draw for one hypothesis: drawMesh() of the
+// mesh simplified by vertex clustering (cells of 1 / `divisor` of the diameter; the detector uses
+// 64) into the crop around it, depth and the face of each pixel, at the default sampler's poses
+// (650-1150 mm) in a 640x480 image.
+PERF_TEST_P(Forestmod_DrawMesh, coarse_mesh_640x480,
+            testing::Combine(testing::Values("ape", "driller"), testing::Values(64, 32)))
+{
+    const Mesh mesh = Mesh::load(meshPath(get<0>(GetParam())));
+    const Mesh coarse = cv::forestmod::detail::coarseMesh(mesh, mesh.diameter() / get<1>(GetParam()));
+    const int winding = cv::forestmod::detail::closedWinding(coarse);
+    const Matx33d K = lmoIntrinsics();
+    const Point3f c = mesh.center();
+    const std::vector<ViewPose> poses = ViewSampler().poses(Point3d(c.x, c.y, c.z));
+    cv::forestmod::detail::Drawing d;
+    size_t pose_index = 0;
+    TEST_CYCLE()
+    {
+        const ViewPose& p = poses[pose_index];
+        pose_index = (pose_index + 97) % poses.size();
+        cv::forestmod::detail::drawMesh(coarse, winding, K, p.R, p.t, Size(640, 480), 8, d);
+    }
+    ASSERT_GT(countNonZero(d.mask), 0);
+    ASSERT_EQ(CV_32SC1, d.face.type());
     SANITY_CHECK_NOTHING();
 }
 
