@@ -77,19 +77,20 @@ typedef TestBaseWithParam<tuple<std::string, int> > Forestmod_DrawMesh;
 PERF_TEST_P(Forestmod_DrawMesh, coarse_mesh_640x480,
             testing::Combine(testing::Values("ape", "driller"), testing::Values(64, 32)))
 {
+    namespace fd = cv::forestmod::detail;
     const Mesh mesh = Mesh::load(meshPath(get<0>(GetParam())));
-    const Mesh coarse = cv::forestmod::detail::coarseMesh(mesh, mesh.diameter() / get<1>(GetParam()));
-    const int winding = cv::forestmod::detail::closedWinding(coarse);
+    const Mesh coarse = fd::coarseMesh(mesh, mesh.diameter() / get<1>(GetParam()));
+    const int winding = fd::closedWinding(coarse);
     const Matx33d K = lmoIntrinsics();
     const Point3f c = mesh.center();
     const std::vector<ViewPose> poses = ViewSampler().poses(Point3d(c.x, c.y, c.z));
-    cv::forestmod::detail::Drawing d;
+    fd::Drawing d;
     size_t pose_index = 0;
     TEST_CYCLE()
     {
         const ViewPose& p = poses[pose_index];
         pose_index = (pose_index + 97) % poses.size();
-        cv::forestmod::detail::drawMesh(coarse, winding, K, p.R, p.t, Size(640, 480), 8, d);
+        fd::drawMesh(coarse, winding, K, p.R, p.t, Size(640, 480), 8, d);
     }
     ASSERT_GT(countNonZero(d.mask), 0);
     ASSERT_EQ(CV_32SC1, d.face.type());
