@@ -118,7 +118,7 @@ static void printDepths(const ForestQueryStats& s)
     std::printf(")");
 }
 
-int main(int argc, char** argv)
+static int bench(int argc, char** argv)
 {
     CommandLineParser parser(argc, argv, keys);
     parser.about("Synthetic benchmark of the fuzzy template forest and its background rejectors");
@@ -324,4 +324,17 @@ int main(int argc, char** argv)
                     (double)s.candidates / std::max<int64>(1, s.locations - s.rejected));
     }
     return 0;
+}
+
+int main(int argc, char** argv)
+{
+    try
+    {
+        return bench(argc, argv);
+    }
+    catch (const cv::Exception& e) // an unreadable frame, a parameter out of range
+    {
+        std::cerr << "forestmod_forest_bench: " << e.what() << std::endl;
+        return 1;
+    }
 }

@@ -31,6 +31,12 @@ static const char* keys
       "{frames          | 0        | frames from the first (0: all) }"
       "{exhaustive      |          | linear LINEMOD search instead of the forest }"
       "{trees           | 1        | trees of the forest }"
+      "{exhaustive_ratio |         | DetectorParams::exhaustive_ratio (negative: the forest path "
+      "for every search group; default: the library's) }"
+      "{max_survivors   |          | DetectorParams::max_survivors (default: the library's) }"
+      "{breadth_first   |          | DetectorParams::breadth_first, 0 or 1 (default: the library's) }"
+      "{fuzzy_margin    |          | ForestParams::fuzzy_margin, 0: crisp splits (default: the "
+      "library's) }"
       "{threshold       | 80       | similarity threshold (percent) }"
       "{absence         |          | print P(0) of the label planes on the object / background }"
       "{weak_threshold  | -1       | --absence: ColorGradient's weak threshold (gradient magnitude) "
@@ -99,7 +105,7 @@ static void absenceStats(const fm::Detector& det, const std::vector<fm::Frame>& 
                nin > 0 ? zin[m] / nin : 0., nout > 0 ? zout[m] / nout : 0.);
 }
 
-int main(int argc, char** argv)
+static int probe(int argc, char** argv)
 {
     cv::CommandLineParser parser(argc, argv, keys);
     parser.about("forestmod_reject_probe: rejected share and 2D box recall of one object's model "
@@ -150,6 +156,14 @@ int main(int argc, char** argv)
     p.nms_iou = 0;
     p.use_forest = !exhaustive;
     p.forest.num_trees = trees;
+    if (parser.has("exhaustive_ratio"))
+        p.exhaustive_ratio = parser.get<float>("exhaustive_ratio");
+    if (parser.has("max_survivors"))
+        p.max_survivors = parser.get<int>("max_survivors");
+    if (parser.has("breadth_first"))
+        p.breadth_first = parser.get<int>("breadth_first") != 0;
+    if (parser.has("fuzzy_margin"))
+        p.forest.fuzzy_margin = parser.get<float>("fuzzy_margin");
     det.setParams(p);
     cv::TickMeter train;
     train.start();
@@ -225,4 +239,17 @@ int main(int argc, char** argv)
            n ? 100. * rejected / n : 0., hits, with_gt, exhaustive ? 0 : kept,
            exhaustive ? 0 : with_gt, n ? ms / n : 0., train.getTimeSec());
     return 0;
+}
+
+int main(int argc, char** argv)
+{
+    try
+    {
+        return probe(argc, argv);
+    }
+    catch (const cv::Exception& e) // a missing or corrupt file, a parameter out of range
+    {
+        std::cerr << "forestmod_reject_probe: " << e.what() << std::endl;
+        return 1;
+    }
 }

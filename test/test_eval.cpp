@@ -609,6 +609,8 @@ TEST(Forestmod_Eval, samples_answer_help_and_reject_a_missing_input)
         { "forestmod_render", "--mesh=%s --out=%o" },
         { "forestmod_hue", "%s %o" },
         { "forestmod_detect", "--model=%s --color=%o" },
+        { "forestmod_reject_probe", "--dataset=. --object=1 --model=%s" },
+        { "forestmod_forest_bench", "--templates=40 --queries=20 --frames=%s" },
     };
     const TempDir tmp("forestmod_samples");
     const std::string& dir = tmp.path;
@@ -627,7 +629,8 @@ TEST(Forestmod_Eval, samples_answer_help_and_reject_a_missing_input)
         if (o != std::string::npos)
             args.replace(o, 2, "'" + dir + "/out_" + samples[i].name + ".png'");
         const int code = run("'" + exe + "' " + args, dir, out, err);
-        EXPECT_GT(code, 0) << samples[i].name << " " << args << ": must fail";
+        // 1, not the shell's 128 + signal of an uncaught exception's abort
+        EXPECT_EQ(1, code) << samples[i].name << " " << args << ": must fail with a message";
         EXPECT_FALSE(err.empty()) << samples[i].name << ": no message on stderr";
         EXPECT_NE(std::string::npos, err.find("does_not_exist"))
             << samples[i].name << ": the message should name the missing path: " << err;
@@ -640,7 +643,8 @@ TEST(Forestmod_Eval, out_of_range_options_are_refused)
 {
     const TempDir tmp("forestmod_eval_options");
     const std::string exe = samplePath("forestmod_eval");
-    const char* bad[] = { "--rgb_hypotheses=0", "--verify_k=0" };
+    const char* bad[] = { "--rgb_hypotheses=0", "--verify_k=0", "--fuzzy_margin=-0.5" };
+    const char* bound[] = { ">= 1", ">= 1", ">= 0" };
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); ++i)
     {
         std::string out, err;
@@ -648,7 +652,8 @@ TEST(Forestmod_Eval, out_of_range_options_are_refused)
                              out, err);
         EXPECT_GT(code, 0) << bad[i];
         const std::string name = std::string(bad[i]).substr(0, std::string(bad[i]).find('='));
-        EXPECT_NE(std::string::npos, err.find(name + " must be >= 1")) << bad[i] << ": " << err;
+        EXPECT_NE(std::string::npos, err.find(name + " must be " + bound[i]))
+            << bad[i] << ": " << err;
     }
 }
 

@@ -83,6 +83,8 @@ static const char* const keys
       "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
       "{exhaustive_ratio |         | experiment: DetectorParams::exhaustive_ratio (empty: default; "
       "negative: never exhaustive, 0: always) }"
+      "{fuzzy_margin    | -1       | experiment: ForestParams::fuzzy_margin of the forests (0: "
+      "crisp splits; -1: default) }"
       "{any_tree        | -1       | experiment: ForestParams::reject_any_tree of the forests (0, 1; -1: default) }"
       "{leaf_samples    | -1       | experiment: DetectorParams::auto_depth_leaf_samples (-1: "
       "default; 0: the paper's depth 8 / 9) }"
@@ -101,7 +103,7 @@ EvalOptions::EvalOptions()
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
-      exhaustive_ratio(0.f), has_exhaustive_ratio(false), leaf_samples(-1.f),
+      exhaustive_ratio(0.f), has_exhaustive_ratio(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
       depth_validation(true), five_trees(true), verify_k(10)
 {
     regimeSampler(regime, sampler);
@@ -165,6 +167,8 @@ fm::DetectorParams experimentParams(const EvalOptions& opt, fm::DetectorParams p
         p.max_survivors = opt.max_survivors;
     if (opt.has_exhaustive_ratio)
         p.exhaustive_ratio = opt.exhaustive_ratio;
+    if (opt.fuzzy_margin >= 0.f)
+        p.forest.fuzzy_margin = opt.fuzzy_margin;
     if (opt.any_tree >= 0)
         p.forest.reject_any_tree = opt.any_tree != 0;
     if (opt.leaf_samples >= 0.f)
@@ -245,6 +249,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.has_exhaustive_ratio = !parser.get<std::string>("exhaustive_ratio").empty();
     if (opt.has_exhaustive_ratio)
         opt.exhaustive_ratio = parser.get<float>("exhaustive_ratio");
+    opt.fuzzy_margin = parser.get<float>("fuzzy_margin");
     opt.any_tree = parser.get<int>("any_tree");
     opt.leaf_samples = parser.get<float>("leaf_samples");
     opt.force = parser.has("force");
@@ -301,6 +306,8 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
         return fail("--rgb_hypotheses must be >= 1");
     if (opt.verify_k < 1)
         return fail("--verify_k must be >= 1");
+    if (opt.fuzzy_margin < 0.f && opt.fuzzy_margin != -1.f)
+        return fail("--fuzzy_margin must be >= 0 (-1: the default)");
     if (!weights_arg.empty()
         && (!parseNumbers(weights_arg, opt.verify_weights) || opt.verify_weights.size() < 4
             || opt.verify_weights.size() > 5))
