@@ -9,7 +9,9 @@
 // of the object's centre reached validation. --exhaustive gives the same for the linear LINEMOD
 // search of the same templates (DetectorParams::use_forest false). --absence prints how often the
 // forest's label planes hold 0 ("no feature") on the object and on the background
-// (doc/experiments.md, "Evidence of absence").
+// (doc/experiments.md, "Evidence of absence"). --occupancy prints how much of the exhaustive
+// search's work the locations that pass hold (doc/experiments.md, "Rejection and the exhaustive
+// search's vectors").
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
@@ -40,8 +42,12 @@ static const char* keys
       "library's) }"
       "{threshold       | 80       | similarity threshold (percent) }"
       "{absence         |          | print P(0) of the label planes on the object / background }"
-      "{weak_threshold  | -1       | --absence: ColorGradient's weak threshold (gradient magnitude) "
-      "of the statistics (-1: the model's, 10 in LINEMOD) }"
+      "{weak_threshold  | -1       | --absence: ColorGradient's weak threshold (gradient "
+      "magnitude) of the statistics (-1: the model's, 10 in LINEMOD) }"
+      "{occupancy       |          | the share of locations that pass the tests before the "
+      "forest (flat window, root rejectors) and the whole forest, and of the exhaustive search's "
+      "T grid cells and 32-cell vectors that hold one (needs the forest path: "
+      "--exhaustive_ratio=-1) }"
       "{verbose v       |          | one line per frame }";
 
 static double boxIoU(const cv::Rect& a, const cv::Rect& b)
@@ -106,6 +112,120 @@ static void absenceStats(const fm::Detector& det, const std::vector<fm::Frame>& 
                nin > 0 ? zin[m] / nin : 0., nout > 0 ? zout[m] / nout : 0.);
 }
 
+// The work of the exhaustive search that the locations passing a rejection hold, summed over
+// frames: the location grid's locations, the T grid's cells (one of their R x R locations
+// passes after a 3 x 3 dilation: a template's location lies between the grid's points) and the
+// vectors of 32 cells (AVX2's 32 bytes) of the cells in rows of cells_x + 1, the search's layout.
+struct Occupancy
+{
+    double locations, passing, cells, cells_kept, vectors, vectors_kept;
+    int object_kept;  //!< frames where a location within one step of the object's centre passes
+    Occupancy()
+        : locations(0), passing(0), cells(0), cells_kept(0), vectors(0), vectors_kept(0),
+          object_kept(0)
+    {
+    }
+
+    void add(const cv::Mat& pass, int R, cv::Size grid)
+    {
+        locations += pass.total();
+        passing += cv::countNonZero(pass);
+        cv::Mat kept;
+        cv::dilate(pass, kept, cv::Mat::ones(3, 3, CV_8U));
+        const int stride = grid.width + 1, n = grid.height * stride;
+        std::vector<uchar> cell(n, 0);
+        for (int cy = 0; cy < grid.height; ++cy)
+            for (int cx = 0; cx < grid.width; ++cx)
+            {
+                const cv::Rect r(cx * R, cy * R, R, R);
+                const cv::Rect in = r & cv::Rect(0, 0, kept.cols, kept.rows);
+                cell[cy * stride + cx] = in.area() > 0 && cv::countNonZero(kept(in)) > 0;
+                cells_kept += cell[cy * stride + cx];
+            }
+        cells += grid.area();
+        for (int v = 0; v < n; v += 32)
+        {
+            ++vectors;
+            bool any = false;
+            for (int k = v; k < std::min(n, v + 32); ++k)
+                any |= cell[k] != 0;
+            vectors_kept += any;
+        }
+    }
+    void print(const char* what, int object_frames) const
+    {
+        printf("%s: locations passing %.1f %% (the object's in %d / %d frames), T grid cells "
+               "holding one %.1f %%, 32-cell vectors holding one %.1f %%\n", what,
+               100. * passing / std::max(1., locations), object_kept, object_frames,
+               100. * cells_kept / std::max(1., cells),
+               100. * vectors_kept / std::max(1., vectors));
+    }
+};
+
+// The model (RGB, one class) into det; false with a message when it does not fit the probe.
+static bool loadModel(const std::string& model, fm::Detector& det)
+{
+    std::vector<cv::Ptr<cv::linemod::Modality> > mods;
+    mods.push_back(cv::linemod::Modality::create("ColorGradient"));
+    mods.push_back(fm::ColorHue::create());
+    std::vector<int> T;
+    T.push_back(5);
+    T.push_back(8);
+    det = fm::Detector(mods, T);
+    det.load(model);
+    for (size_t m = 0; m < det.getModalities().size(); ++m)
+        if (det.getModalities()[m]->name() == "DepthNormal")
+        {
+            std::cerr << "forestmod_reject_probe: the model has a DepthNormal modality; this "
+                         "probe is RGB only\n";
+            return false;
+        }
+    if (det.classIds().size() != 1)
+    {
+        std::cerr << "forestmod_reject_probe: the model must hold one class\n";
+        return false;
+    }
+    return true;
+}
+
+// The model holds templates; the parameters are the library's defaults and the flags'.
+static fm::DetectorParams probeParams(const cv::CommandLineParser& parser, bool exhaustive,
+                                      int trees)
+{
+    fm::DetectorParams p;
+    p.nms_iou = 0;
+    p.use_forest = !exhaustive;
+    p.forest.num_trees = trees;
+    if (parser.has("exhaustive_ratio"))
+        p.exhaustive_ratio = parser.get<float>("exhaustive_ratio");
+    if (parser.has("max_survivors"))
+        p.max_survivors = parser.get<int>("max_survivors");
+    if (parser.has("breadth_first"))
+        p.breadth_first = parser.get<int>("breadth_first") != 0;
+    if (parser.has("fuzzy_margin"))
+        p.forest.fuzzy_margin = parser.get<float>("fuzzy_margin");
+    return p;
+}
+
+// Whether a location within one step of the object's centre (level 0) passed the whole forest
+// (`forest`) and the tests before it (`before`), from the rejection map's codes; `stride`: the
+// location grid's in level-0 pixels (the anchor is the window's centre).
+static void objectLocation(const cv::Mat& code, cv::Point centre, int stride, int& forest,
+                           int& before)
+{
+    forest = before = 0;
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+        {
+            const int x = centre.x / stride + dx, y = centre.y / stride + dy;
+            if (x < 0 || y < 0 || x >= code.cols || y >= code.rows)
+                continue;
+            const short v = code.at<short>(y, x);
+            forest |= v == -1;
+            before |= v == -1 || v > 0;
+        }
+}
+
 static int probe(int argc, char** argv)
 {
     cv::CommandLineParser parser(argc, argv, keys);
@@ -131,40 +251,17 @@ static int probe(int argc, char** argv)
                      "--first, --frames >= 0, --trees >= 1\n";
         return 1;
     }
-    std::vector<cv::Ptr<cv::linemod::Modality> > mods;
-    mods.push_back(cv::linemod::Modality::create("ColorGradient"));
-    mods.push_back(fm::ColorHue::create());
-    std::vector<int> T;
-    T.push_back(5);
-    T.push_back(8);
-    fm::Detector det(mods, T);
-    det.load(model);
-    for (size_t m = 0; m < det.getModalities().size(); ++m)
-        if (det.getModalities()[m]->name() == "DepthNormal")
-        {
-            std::cerr << "forestmod_reject_probe: the model has a DepthNormal modality; this "
-                         "probe is RGB only\n";
-            return 1;
-        }
-    if (det.classIds().size() != 1)
+    if (exhaustive && parser.has("occupancy"))
     {
-        std::cerr << "forestmod_reject_probe: the model must hold one class\n";
+        std::cerr << "forestmod_reject_probe: --occupancy reads the forest's rejections; "
+                     "--exhaustive has none\n";
         return 1;
     }
+    fm::Detector det;
+    if (!loadModel(model, det))
+        return 1;
     const cv::String cls = det.classIds()[0];
-    // the model holds templates; the parameters are the library's defaults and the flags'
-    fm::DetectorParams p;
-    p.nms_iou = 0;
-    p.use_forest = !exhaustive;
-    p.forest.num_trees = trees;
-    if (parser.has("exhaustive_ratio"))
-        p.exhaustive_ratio = parser.get<float>("exhaustive_ratio");
-    if (parser.has("max_survivors"))
-        p.max_survivors = parser.get<int>("max_survivors");
-    if (parser.has("breadth_first"))
-        p.breadth_first = parser.get<int>("breadth_first") != 0;
-    if (parser.has("fuzzy_margin"))
-        p.forest.fuzzy_margin = parser.get<float>("fuzzy_margin");
+    const fm::DetectorParams p = probeParams(parser, exhaustive, trees);
     det.setParams(p);
     cv::TickMeter train;
     train.start();
@@ -180,6 +277,9 @@ static int probe(int argc, char** argv)
         absenceStats(det, frames, first, last, obj_id, parser.get<float>("weak_threshold"));
     const int L = det.pyramidLevels() - 1;
     int n = 0, with_gt = 0, hits = 0, kept = 0;
+    Occupancy before_forest, forest;
+    const bool occupancy = parser.has("occupancy");
+    const int T_L = det.getT(L), S = p.location_step > 0 ? p.location_step : std::max(1, T_L / 2);
     double rejected = 0, ms = 0;
     for (int i = first; i < last; ++i)
     {
@@ -195,6 +295,15 @@ static int probe(int argc, char** argv)
         det.match(sources, threshold, matches, std::vector<cv::String>(), cv::noArray(),
                   std::vector<cv::Mat>(), &st);
         ++n;
+        if (occupancy && !st.rejection_map.empty())
+        {
+            // codes (DetectionStats::rejection_map): -1 passed, -2 flat, >= 0 the deepest
+            // rejecting forest depth of the location's groups
+            const cv::Mat& code = st.rejection_map;
+            const cv::Size cells((rgb.cols >> L) / T_L, (rgb.rows >> L) / T_L);
+            before_forest.add((code == -1) | (code > 0), T_L / S, cells);
+            forest.add(code == -1, T_L / S, cells);
+        }
         rejected += st.rejectedFraction();
         ms += st.t_total_ms;
         int hit = 0, near = -1;
@@ -213,26 +322,23 @@ static int probe(int argc, char** argv)
             hits += hit;
             if (!st.rejection_map.empty())
             {
-                // the location grid's stride in level-0 pixels; the anchor is the window's centre
-                const int stride = (p.location_step > 0 ? p.location_step
-                                                        : std::max(1, det.getT(L) / 2)) << L;
-                const cv::Point c = (gt->bbox_obj.tl() + gt->bbox_obj.br()) / 2;
-                near = 0;
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx)
-                    {
-                        const int x = c.x / stride + dx, y = c.y / stride + dy;
-                        if (x >= 0 && y >= 0 && x < st.rejection_map.cols
-                            && y < st.rejection_map.rows)
-                            near |= st.rejection_map.at<short>(y, x) == -1;
-                    }
+                int near_before = 0;
+                objectLocation(st.rejection_map, (gt->bbox_obj.tl() + gt->bbox_obj.br()) / 2,
+                               S << L, near, near_before);
                 kept += near;
+                before_forest.object_kept += near_before;
             }
         }
         if (verbose)
             printf("frame %d: rejected %.3f, hit %d, centre kept %d, candidates per location "
                    "%.1f, %.0f ms\n", i, st.rejectedFraction(), hit, near,
                    st.validated ? (double)st.candidates / st.validated : 0., st.t_total_ms);
+    }
+    if (occupancy)
+    {
+        forest.object_kept = kept;
+        before_forest.print("tests before the forest", with_gt);
+        forest.print("whole forest", with_gt);
     }
     printf("object %d (%s), %s, frames %d..%d: rejected %.1f %%, 2D hits %d / %d, centre "
            "locations kept %d / %d, %.0f ms per frame, training %.1f s\n", obj_id, cls.c_str(),

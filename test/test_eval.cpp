@@ -657,4 +657,75 @@ TEST(Forestmod_Eval, out_of_range_options_are_refused)
     }
 }
 
+// One line of forestmod_reject_probe --occupancy: the shares (percent) and the object's frames.
+struct OccupancyLine
+{
+    double passing, cells, vectors;
+    int object, frames;
+};
+
+static bool parseOccupancy(const std::string& out, const std::string& what, OccupancyLine& o)
+{
+    const size_t at = out.find(what + ": ");
+    if (at == std::string::npos)
+        return false;
+    return sscanf(out.c_str() + at + what.size() + 2,
+                  "locations passing %lf %% (the object's in %d / %d frames), T grid cells "
+                  "holding one %lf %%, 32-cell vectors holding one %lf %%",
+                  &o.passing, &o.object, &o.frames, &o.cells, &o.vectors) == 5;
+}
+
+// forestmod_reject_probe --occupancy (doc/experiments.md, "The forests' rejection and the
+// exhaustive search's vectors") on a rendered BOP dataset with the ape's templates of its views:
+// the whole forest passes a subset of the locations the tests before it pass; a cell of the T
+// grid holds a passing location when one of its locations passes, a vector of 32 cells when one
+// of its cells does, so neither share falls below the one before it; and the ape's own location
+// passes in both frames (the forest also rejects some locations its root lets through). With
+// --exhaustive there are no rejections to read: refused.
+TEST(Forestmod_Eval, reject_probe_occupancy_on_a_rendered_dataset)
+{
+    const TempDir tmp("forestmod_probe");
+    const std::string& dir = tmp.path;
+    const std::string root = dir + "/data";
+    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 2));
+    ViewSampler::Params sp = ViewSampler::Params::coarse();
+    sp.radii.assign(1, 700.0);
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    ASSERT_GT(det->addTemplates(Mesh::load(root + "/models/obj_000001.ply"), "ape",
+                                ViewSampler(sp), lmoIntrinsics(), Size(640, 480)), 0);
+    const std::string model = dir + "/ape.yml.gz";
+    det->save(model);
+    const std::string probe = "'" + samplePath("forestmod_reject_probe") + "' --dataset='" + root
+        + "' --scene=1 --object=1 --model='" + model + "' --threshold=70 --occupancy";
+    std::string out, err;
+    ASSERT_EQ(0, run(probe + " --exhaustive_ratio=-1", dir, out, err)) << out << err;
+    OccupancyLine before, forest;
+    ASSERT_TRUE(parseOccupancy(out, "tests before the forest", before)) << out;
+    ASSERT_TRUE(parseOccupancy(out, "whole forest", forest)) << out;
+    std::cout << "[ INFO    ] passing (before the forest / whole forest): locations "
+              << before.passing << " / " << forest.passing << " %, cells " << before.cells
+              << " / " << forest.cells << " %, vectors " << before.vectors << " / "
+              << forest.vectors << " %" << std::endl;
+    EXPECT_GT(before.passing, 0.0);
+    EXPECT_LE(before.passing, 100.0);
+    // the ape's forest rejects some of what its root rejectors let through on these frames
+    EXPECT_LT(forest.passing, before.passing);
+    EXPECT_LE(forest.cells, before.cells);
+    EXPECT_LE(forest.vectors, before.vectors);
+    const OccupancyLine* lines[2] = { &before, &forest };
+    for (int k = 0; k < 2; ++k)
+    {
+        const OccupancyLine& o = *lines[k];
+        // every T grid cell holds (T / step)^2 = 4 locations; the rows of cells_x + 1 cells
+        // (the search's layout) hold one cell that never passes
+        EXPECT_GE(o.cells, o.passing - 1.0) << k;
+        EXPECT_GE(o.vectors, o.cells * 40.0 / 41.0 - 1e-6) << k;
+        EXPECT_LE(o.vectors, 100.0) << k;
+        EXPECT_EQ(2, o.frames) << k;
+        EXPECT_EQ(2, o.object) << k << ": the ape's location must pass";
+    }
+    EXPECT_EQ(1, run(probe + " --exhaustive", dir, out, err)) << out << err;
+    EXPECT_NE(std::string::npos, err.find("--occupancy")) << err;
+}
+
 }} // namespace
