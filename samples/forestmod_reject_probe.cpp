@@ -226,6 +226,20 @@ static void objectLocation(const cv::Mat& code, cv::Point centre, int stride, in
         }
 }
 
+// --occupancy reads the forest's rejections of every location: a group searched exhaustively is
+// not traversed, and its locations would count as passing. False with a message without the
+// forest path on every group.
+static bool occupancyAllowed(const cv::CommandLineParser& parser, bool exhaustive)
+{
+    if (!parser.has("occupancy")
+        || (!exhaustive && parser.has("exhaustive_ratio")
+            && parser.get<float>("exhaustive_ratio") < 0.f))
+        return true;
+    std::cerr << "forestmod_reject_probe: --occupancy needs the forest path on every group "
+                 "(--exhaustive_ratio=-1, not --exhaustive)\n";
+    return false;
+}
+
 static int probe(int argc, char** argv)
 {
     cv::CommandLineParser parser(argc, argv, keys);
@@ -251,12 +265,8 @@ static int probe(int argc, char** argv)
                      "--first, --frames >= 0, --trees >= 1\n";
         return 1;
     }
-    if (exhaustive && parser.has("occupancy"))
-    {
-        std::cerr << "forestmod_reject_probe: --occupancy reads the forest's rejections; "
-                     "--exhaustive has none\n";
+    if (!occupancyAllowed(parser, exhaustive))
         return 1;
-    }
     fm::Detector det;
     if (!loadModel(model, det))
         return 1;
