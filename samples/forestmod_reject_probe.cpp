@@ -10,8 +10,8 @@
 // search of the same templates (DetectorParams::use_forest false). --absence prints how often the
 // forest's label planes hold 0 ("no feature") on the object and on the background
 // (doc/experiments.md, "Evidence of absence"). --occupancy prints how much of the exhaustive
-// search's work the locations that pass hold (doc/experiments.md, "Rejection and the exhaustive
-// search's vectors").
+// search's work the locations that pass hold (doc/experiments.md, "The forests' rejection and
+// the exhaustive search's vectors").
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/utility.hpp>
@@ -162,8 +162,8 @@ struct Occupancy
     }
 };
 
-// The model (RGB, one class) into det; false with a message when it does not fit the probe.
-static bool loadModel(const std::string& model, fm::Detector& det)
+// The model (RGB, one class); empty with a message when it does not fit the probe.
+static cv::Ptr<fm::Detector> loadModel(const std::string& model)
 {
     std::vector<cv::Ptr<cv::linemod::Modality> > mods;
     mods.push_back(cv::linemod::Modality::create("ColorGradient"));
@@ -171,21 +171,21 @@ static bool loadModel(const std::string& model, fm::Detector& det)
     std::vector<int> T;
     T.push_back(5);
     T.push_back(8);
-    det = fm::Detector(mods, T);
-    det.load(model);
-    for (size_t m = 0; m < det.getModalities().size(); ++m)
-        if (det.getModalities()[m]->name() == "DepthNormal")
+    cv::Ptr<fm::Detector> det = cv::makePtr<fm::Detector>(mods, T);
+    det->load(model);
+    for (size_t m = 0; m < det->getModalities().size(); ++m)
+        if (det->getModalities()[m]->name() == "DepthNormal")
         {
             std::cerr << "forestmod_reject_probe: the model has a DepthNormal modality; this "
                          "probe is RGB only\n";
-            return false;
+            return cv::Ptr<fm::Detector>();
         }
-    if (det.classIds().size() != 1)
+    if (det->classIds().size() != 1)
     {
         std::cerr << "forestmod_reject_probe: the model must hold one class\n";
-        return false;
+        return cv::Ptr<fm::Detector>();
     }
-    return true;
+    return det;
 }
 
 // The model holds templates; the parameters are the library's defaults and the flags'.
@@ -267,9 +267,10 @@ static int probe(int argc, char** argv)
     }
     if (!occupancyAllowed(parser, exhaustive))
         return 1;
-    fm::Detector det;
-    if (!loadModel(model, det))
+    const cv::Ptr<fm::Detector> loaded = loadModel(model);
+    if (!loaded)
         return 1;
+    fm::Detector& det = *loaded;
     const cv::String cls = det.classIds()[0];
     const fm::DetectorParams p = probeParams(parser, exhaustive, trees);
     det.setParams(p);
