@@ -24,6 +24,7 @@
 
 #include "perf_precomp.hpp"
 #include "../src/validator.hpp"
+#include "../src/exhaustive_search.hpp"
 #include "../src/quantize_fast.hpp"
 #include "../src/scene_pyramid.hpp"
 #include "../src/search_index.hpp"

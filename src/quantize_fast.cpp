@@ -24,7 +24,6 @@
 #include "precomp.hpp"
 #include "quantize_fast.hpp"
 #include "quantize_kernels.hpp"
-#include "validator.hpp"
 #include "search_index.hpp"
 
 #include "opencv2/core/hal/hal.hpp"

@@ -6,7 +6,7 @@
 
 #include "precomp.hpp"
 #include "refine.hpp"
-#include "validator.hpp"
+#include "linear_memories.hpp"
 
 #include <climits>
 #include <unordered_map>
@@ -18,7 +18,7 @@ namespace detail {
 // The best position of a template in the 16 x 16 cells of T pixels around (x, y) of level l; the
 // raw score and the feature count at that position.
 // With the level's linearized memories (`linear`, may be null) the 256 scores are vectorised
-// (validator.hpp, scoreLocal), else read in place.
+// (linear_memories.hpp, scoreLocal), else read in place.
 static Point bestPosition(const LevelMaps& lm, const TemplatePyramid& tp, int l, int x, int y,
                           int& best, int& num_features, const LinearMemories* linear)
 {

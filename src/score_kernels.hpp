@@ -6,9 +6,10 @@
 #define OPENCV_FORESTMOD_SCORE_KERNELS_HPP
 
 // The vectorised kernels of the search: the additions of LINEMOD's linearized memories
-// (validator.cpp) and the scan's tests over a row of locations (scan.cpp). OpenCV universal
-// intrinsics, compiled for the baseline and, on x86-64, once more for AVX2 (src/avx2/); the AVX2
-// code runs when cv::checkHardwareSupport(CV_CPU_AVX2) (false after cv::setUseOptimized(false)).
+// (exhaustive_search.cpp, validator.cpp, linear_memories.cpp) and the scan's tests over a row of
+// locations (scan.cpp). OpenCV universal intrinsics, compiled for the baseline and, on x86-64,
+// once more for AVX2 (src/avx2/); the AVX2 code runs when cv::checkHardwareSupport(CV_CPU_AVX2)
+// (false after cv::setUseOptimized(false)).
 // Integer additions: every path gives the same bits. sumRuns16 and the scan's kernels are
 // exported for the tests.
 

@@ -11,6 +11,7 @@
 
 #include "test_precomp.hpp"
 #include "../src/validator.hpp"
+#include "../src/exhaustive_search.hpp"
 #include "../src/quantize_fast.hpp"
 #include "../src/score_kernels.hpp"
 #include "../src/kernel_dispatch.hpp"

@@ -1,0 +1,202 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The exhaustive search of the search groups whose forest rejected too little in a frame
+// (DetectorParams::exhaustive_ratio): every asked-for template at every position of the coarsest
+// level's T grid, as cv::linemod, on the linearized memories; each position keeps its best
+// templates over the threshold.
+
+#include "precomp.hpp"
+#include "exhaustive_search.hpp"
+#include "score_kernels.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+// The raw scores of a template given by its coarsest-level features `f` (CoarseRuns) at every
+// position of the T grid where its box of `cells` fits.
+static bool scoreRuns(const LinearMemories& lm, const CoarseFeature* f, int n_f, Size cells,
+                      int& span_x, int& span_y, std::vector<ushort>& scores)
+{
+    span_x = lm.cells_x - cells.width;
+    span_y = lm.cells_y - cells.height;
+    if (span_x < 0 || span_y < 0)
+        return false;
+    // every feature's run of the memories (cx <= cells.width <= cells_x: no overflow)
+    static thread_local std::vector<int> runs;
+    runs.resize(n_f);
+    const int plane = lm.stride * lm.rows;
+    for (int k = 0; k < n_f; ++k)
+        runs[k] = f[k].memory * plane + f[k].cy * lm.stride + f[k].cx;
+    // positions r * stride + c, the row ends included (they wrap: scored, never reported); the
+    // kernel writes whole vectors
+    const int n = span_y * lm.stride + span_x + 1;
+    scores.resize(n + LinearMemories::kSlack);
+    sumRuns16(&scores[0], &lm.data[0], runs.empty() ? 0 : &runs[0], n_f, n);
+    scores.resize(n);
+    return true;
+}
+
+bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                     int num_modalities, int& span_x, int& span_y, std::vector<ushort>& scores)
+{
+    std::vector<CoarseFeature> f;
+    const Size cells = coarseFeatures(tp, level_index, num_modalities, lm.T, f);
+    return scoreRuns(lm, f.empty() ? 0 : &f[0], static_cast<int>(f.size()), cells, span_x,
+                     span_y, scores);
+}
+
+namespace {
+// A template at a position of the T grid: ranked by raw / total, then by index row (a total
+// order: the best ones of a position do not depend on the order templates are scored in).
+struct Scored
+{
+    int raw, total, row;
+    bool better(const Scored& o) const
+    {
+        const int64 a = (int64)raw * o.total, b = (int64)o.raw * total;
+        return a != b ? a > b : row < o.row;
+    }
+};
+} // namespace
+
+// Inserts `s` into the best-first list `top` of k entries (empty entries have row -1).
+static void keepBest(Scored* top, int k, const Scored& s)
+{
+    if (top[k - 1].row >= 0 && !s.better(top[k - 1]))
+        return;
+    int i = k - 1;
+    while (i > 0 && (top[i - 1].row < 0 || s.better(top[i - 1])))
+    {
+        top[i] = top[i - 1];
+        --i;
+    }
+    top[i] = s;
+}
+
+// A position's entry bar once its list of k best is full: a template can then only enter with
+// raw / total >= last.raw / last.total, which implies raw >= (bar x 4 total) >> 16 for
+// bar = floor(65536 last.raw / (4 last.total)). A filter that never refuses an entrant (the
+// exact comparison is keepBest's); 0 while the list has room.
+static inline ushort entryBar(const Scored& last)
+{
+    if (last.row < 0)
+        return 0;
+    const int64 q = ((int64)last.raw << 16) / (4 * (int64)last.total);
+    return static_cast<ushort>(std::min<int64>(q, 65535));
+}
+
+// The templates rows[i0 .. i1) at every position: each position's best K in `best` (lists of
+// the T grid's cells, row-major), its entry bar in `bar` (the scores' layout r * stride + c).
+static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& lm,
+                            const SearchIndex& index, const ClassPyramids& pyramids,
+                            const std::vector<int>& rows, int i0, int i1, float threshold, int K,
+                            Scored* best, ushort* bar)
+{
+    const int M = top.modalities(), T = top.T;
+    const CoarseRuns& coarse = index.coarse;
+    std::vector<ushort> scores;
+    std::vector<int> hits;
+    for (int i = i0; i < i1; ++i)
+    {
+        int span_x = 0, span_y = 0;
+        Scored sc;
+        sc.total = coarse.total[rows[i]];
+        if (sc.total > kMaxSum16) // beyond 16-bit sums (hostile model files only)
+        {
+            const TemplateRef& ref = index.rows[rows[i]];
+            const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
+            const cv::linemod::Template& t0 = tp[L * M];
+            span_x = lm.cells_x - ((t0.width - 1) / T + 1);
+            span_y = lm.cells_y - ((t0.height - 1) / T + 1);
+            if (span_x < 0 || span_y < 0)
+                continue;
+            scores.assign((size_t)(span_y + 1) * lm.stride, 0);
+            for (int r = 0; r <= span_y; ++r)
+                for (int c = 0; c <= span_x; ++c)
+                    scores[(size_t)r * lm.stride + c] = (ushort)std::min(
+                        65535, similarityAll(top, tp, L, Point(c * T, r * T)));
+        }
+        else
+        {
+            const int b = coarse.begin[rows[i]], e = coarse.begin[rows[i] + 1];
+            if (!scoreRuns(lm, b < e ? &coarse.features[b] : 0, e - b, coarse.cells[rows[i]],
+                           span_x, span_y, scores))
+                continue;
+        }
+        sc.row = rows[i];
+        const int raw_thr = rawThreshold(threshold, sc.total);
+        if (raw_thr >= 65535)
+            continue;
+        // one scan over the positions r * stride + c; the row ends (c > span_x) wrap
+        const int n_pos = span_y * lm.stride + span_x + 1;
+        hits.resize(n_pos);
+        const int n_hits = positionsPassing16(&scores[0], bar, n_pos, (ushort)raw_thr,
+                                              (ushort)(4 * sc.total), &hits[0]); // <= 65532
+        for (int h = 0; h < n_hits; ++h)
+        {
+            const int p = hits[h];
+            const int r = p / lm.stride, c = p - r * lm.stride;
+            if (c > span_x)
+                continue;
+            sc.raw = scores[p];
+            Scored* list = best + (size_t)(r * lm.cells_x + c) * K;
+            keepBest(list, K, sc);
+            bar[p] = entryBar(list[K - 1]);
+        }
+    }
+}
+
+// keep: max_survivors for each of the (T / step)^2 locations of the forest path that a cell of
+// the T grid holds (validateLocations).
+void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
+                             const ClassPyramids& pyramids, const std::vector<int>& rows,
+                             float threshold, int keep, std::vector<cv::linemod::Match>& out)
+{
+    const LevelMaps& top = scene.coarsest();
+    const int L = scene.coarsestIndex();
+    const int T = top.T;
+    const int K = keep;
+    const int offset = T / 2 + (T % 2 - 1);
+    CV_Assert(index.coarse.begin.size() == index.rows.size() + 1);
+    LinearMemories lm;
+    lm.build(top);
+    const int P = lm.cells_x * lm.cells_y;
+    const int n = static_cast<int>(rows.size());
+    // templates in a fixed number of blocks, each with its own best lists, merged afterwards
+    const int blocks = std::max(1, std::min(n, 4 * getNumThreads()));
+    Scored none = { 0, 1, -1 };
+    std::vector<std::vector<Scored> > best(blocks, std::vector<Scored>((size_t)P * K, none));
+    parallel_for_(Range(0, blocks), [&](const Range& range) {
+        std::vector<ushort> bar((size_t)lm.stride * lm.cells_y);
+        for (int b = range.start; b < range.end; ++b)
+        {
+            std::fill(bar.begin(), bar.end(), (ushort)0);
+            searchTemplates(top, L, lm, index, pyramids, rows, (int)((int64)n * b / blocks),
+                            (int)((int64)n * (b + 1) / blocks), threshold, K, &best[b][0],
+                            &bar[0]);
+        }
+    });
+    for (int b = 1; b < blocks; ++b)
+        for (int p = 0; p < P; ++p)
+            for (int k = 0; k < K && best[b][(size_t)p * K + k].row >= 0; ++k)
+                keepBest(&best[0][(size_t)p * K], K, best[b][(size_t)p * K + k]);
+    for (int p = 0; p < P; ++p)
+        for (int k = 0; k < K; ++k)
+        {
+            const Scored& sc = best[0][(size_t)p * K + k];
+            if (sc.row < 0)
+                break;
+            const TemplateRef& ref = index.rows[sc.row];
+            const int c = p % lm.cells_x, r = p / lm.cells_x;
+            out.push_back(cv::linemod::Match(c * T + offset, r * T + offset,
+                                             (sc.raw * 100.f) / (4 * sc.total) + 0.5f,
+                                             ref.class_id, ref.template_id));
+        }
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv

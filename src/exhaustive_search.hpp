@@ -1,0 +1,45 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// Internal: the exhaustive search of the search groups whose forest rejected too little in a
+// frame (DetectorParams::exhaustive_ratio), as cv::linemod on the coarsest level's T grid: the
+// frame then costs at most what cv::linemod's search of the same templates costs. scoreEverywhere
+// is exported (CV_EXPORTS) for the tests and perf tests only; the header is not installed.
+
+#ifndef OPENCV_FORESTMOD_EXHAUSTIVE_SEARCH_HPP
+#define OPENCV_FORESTMOD_EXHAUSTIVE_SEARCH_HPP
+
+#include "linear_memories.hpp"
+#include "scene_pyramid.hpp"
+
+#include <vector>
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+/** The exhaustive search's scoring without its bookkeeping (tests, perf tests): raw scores of a
+template at every position (c T, r T) of the coarsest level where it fits (c <= span_x,
+r <= span_y, LINEMOD's positions), vectorised as cv::linemod: one SIMD add per
+feature and vector of positions, the positions in tiles whose sums stay in registers over all
+features (8-bit sums of up to 63 features widened into 16-bit ones). `scores[r * stride + c]`;
+returns false when the template fits nowhere. At most 16383 features (16-bit sums). */
+CV_EXPORTS bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp,
+                                int level_index, int num_modalities, int& span_x, int& span_y,
+                                std::vector<ushort>& scores);
+
+/** Every template of `rows` (index rows of the groups searched exhaustively, asked for) at every
+position of the coarsest level's T grid where it fits (cv::linemod's positions and scores); each
+position keeps its best `keep` templates over the threshold as coarse matches, appended to `out`
+(row-major positions, best first). The templates are scored in a fixed number of blocks, each
+with its own best lists, merged afterwards: the result does not depend on the threads. */
+void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
+                      const ClassPyramids& pyramids, const std::vector<int>& rows,
+                      float threshold, int keep, std::vector<cv::linemod::Match>& out);
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
+#endif

@@ -1,0 +1,192 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// LINEMOD's linearized memories (PAMI 2012, 2.5) of a level's spread images, on the T grid (the
+// exhaustive search, the refinement) or on the location grid (the forest path's validation), and
+// the refinement's vectorised local search on them.
+
+#include "precomp.hpp"
+#include "linear_memories.hpp"
+#include "score_kernels.hpp"
+#include "quantize_fast.hpp"
+
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+// Cell columns [c0, c1] of cell row `cy` of one modality's memories (`row`: label 0, offset
+// (0, 0), that cell row; `plane` between consecutive offsets): the responses of the spread
+// pixels (cx T + dx, cy T + dy) inside the image (the memories stay 0 outside). One gather of
+// the cells' pixels, then the 8 responses of the gathered row at once.
+static void linearizeCells(const Mat& spread, int T, int cy, int c0, int c1, uchar* row,
+                           size_t plane, uchar* gathered)
+{
+    for (int dy = 0; dy < T && cy * T + dy < spread.rows; ++dy)
+    {
+        const uchar* src = spread.ptr<uchar>(cy * T + dy);
+        for (int dx = 0; dx < T; ++dx)
+        {
+            const int n = std::min(c1, (spread.cols - 1 - dx) / T) - c0 + 1;
+            if (n <= 0)
+                continue;
+            for (int k = 0; k < n; ++k)
+                gathered[k] = src[(c0 + k) * T + dx];
+            uchar* d[8];
+            for (int o = 0; o < 8; ++o)
+                d[o] = row + (size_t)linearMemory(0, o, dx, dy, T) * plane + c0;
+            spreadResponses(gathered, n, d);
+        }
+    }
+}
+
+// The image's cell rows of every modality's memories: cell row cy (0 = the image's first) from
+// runs[run_begin[cy]] .. runs[run_begin[cy + 1]) (cell columns, inclusive), in parallel.
+static void fillCells(const LevelMaps& level, const std::vector<Vec2i>& runs,
+                      const std::vector<int>& run_begin, LinearMemories& lm)
+{
+    const size_t n = (size_t)lm.stride * lm.rows;
+    for (int m = 0; m < level.modalities(); ++m)
+        parallel_for_(Range(0, static_cast<int>(run_begin.size()) - 1), [&](const Range& range) {
+            std::vector<uchar> gathered(lm.stride);
+            for (int cy = range.start; cy < range.end; ++cy)
+                for (int k = run_begin[cy]; k < run_begin[cy + 1]; ++k)
+                    linearizeCells(level.spread[m], lm.T, cy, runs[k][0], runs[k][1],
+                                   &lm.data[lm.index(m, 0, 0, 0)] + lm.cell(0, cy), n,
+                                   &gathered[0]);
+        });
+}
+
+void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
+{
+    T = level.T;
+    border = 0;
+    cells_x = level.size.width / T;
+    cells_y = level.size.height / T;
+    stride = cells_x + 1;
+    rows = cells_y + 1;
+    const int M = level.modalities();
+    const size_t n = (size_t)stride * rows;
+    div_T.resize((size_t)std::max(stride, rows) * T);
+    for (size_t x = 0; x < div_T.size(); ++x)
+        div_T[x] = static_cast<ushort>(x / T);
+    data.assign(n * T * T * 8 * M + kSlack, 0);
+    // the runs of cells to fill, per cell row: every cell, or those touching a marked tile
+    std::vector<Vec2i> runs;
+    std::vector<int> run_begin(rows + 1, 0);
+    std::vector<uchar> covered(stride);
+    for (int cy = 0; cy < rows; ++cy)
+    {
+        run_begin[cy] = static_cast<int>(runs.size());
+        if (tiles.empty())
+        {
+            runs.push_back(Vec2i(0, stride - 1));
+            continue;
+        }
+        std::fill(covered.begin(), covered.end(), (uchar)0);
+        const int ty0 = cy * T / tile.height;
+        const int ty1 = std::min(tiles.rows - 1, (cy * T + T - 1) / tile.height);
+        for (int ty = ty0; ty <= ty1; ++ty)
+        {
+            const uchar* g = tiles.ptr<uchar>(ty);
+            for (int tx = 0; tx < tiles.cols; ++tx)
+                if (g[tx])
+                    for (int cx = tx * tile.width / T;
+                         cx <= std::min(stride - 1, (tx * tile.width + tile.width - 1) / T); ++cx)
+                        covered[cx] = 1;
+        }
+        for (int cx = 0; cx < stride;)
+        {
+            if (!covered[cx])
+            {
+                ++cx;
+                continue;
+            }
+            const int c0 = cx;
+            while (cx < stride && covered[cx])
+                ++cx;
+            runs.push_back(Vec2i(c0, cx - 1));
+        }
+    }
+    run_begin[rows] = static_cast<int>(runs.size());
+    fillCells(level, runs, run_begin, *this);
+}
+
+void LinearMemories::buildGrid(const LevelMaps& level, int step, int border_cells)
+{
+    CV_Assert(step > 0 && border_cells >= 0);
+    T = step;
+    border = border_cells;
+    const Size spread = level.spread.empty() ? level.size : level.spread[0].size();
+    cells_x = (spread.width + T - 1) / T;
+    cells_y = (spread.height + T - 1) / T;
+    stride = cells_x + 2 * border;
+    rows = cells_y + 2 * border;
+    div_T.clear();
+    data.assign((size_t)stride * rows * T * T * 8 * level.modalities() + kSlack, 0);
+    std::vector<Vec2i> runs(cells_y, Vec2i(0, cells_x - 1));
+    std::vector<int> run_begin(cells_y + 1);
+    for (int cy = 0; cy <= cells_y; ++cy)
+        run_begin[cy] = cy;
+    fillCells(level, runs, run_begin, *this);
+}
+
+void LinearMemories::featureOffsets(const TemplatePyramid& tp, int level_index, int M, Point tl,
+                                    int* begin, std::vector<int>& offsets) const
+{
+    offsets.clear();
+    for (int m = 0; m < M; ++m)
+    {
+        begin[m] = static_cast<int>(offsets.size());
+        const cv::linemod::Template& t = tp[level_index * M + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const cv::linemod::Feature& f = t.features[i];
+            const int x = tl.x + f.x, y = tl.y + f.y;
+            const int qx = floorDiv(x, T), qy = floorDiv(y, T);
+            offsets.push_back(static_cast<int>(index(m, f.label, x - qx * T, y - qy * T))
+                              + qy * stride + qx);
+        }
+    }
+    begin[M] = static_cast<int>(offsets.size());
+}
+
+bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                int num_modalities, int ox, int oy, int* scores)
+{
+    const int T = lm.T, M = num_modalities;
+    if (ox < 0 || oy < 0 || ox % T || oy % T || numFeatures(tp, level_index, M) > kMaxSum16)
+        return false;
+    const int cx = ox / T, cy = oy / T;
+    // every feature's 16 x 16 block of cells, checked before anything is added (x / T from the
+    // memories' table: no division per feature)
+    static thread_local std::vector<const uchar*> blocks;
+    blocks.clear();
+    const int n_div = static_cast<int>(lm.div_T.size());
+    for (int m = 0; m < M; ++m)
+    {
+        const cv::linemod::Template& t = tp[level_index * M + m];
+        for (size_t i = 0; i < t.features.size(); ++i)
+        {
+            const cv::linemod::Feature& f = t.features[i];
+            if (f.x < 0 || f.y < 0 || f.x >= n_div || f.y >= n_div)
+                return false;
+            const int qx = lm.div_T[f.x], qy = lm.div_T[f.y];
+            if (cx + qx + 16 > lm.stride || cy + qy + 16 > lm.rows)
+                return false;
+            blocks.push_back(lm.memory(m, f.label, f.x - qx * T, f.y - qy * T)
+                             + (size_t)(cy + qy) * lm.stride + cx + qx);
+        }
+    }
+    ushort acc[256];
+    std::fill(acc, acc + 256, (ushort)0);
+    if (!blocks.empty())
+        addBlocks16(acc, &blocks[0], static_cast<int>(blocks.size()), lm.stride);
+    for (int k = 0; k < 256; ++k)
+        scores[k] = acc[k];
+    return true;
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
