@@ -11,6 +11,7 @@
 #include "scene_pyramid.hpp"
 #include "scan.hpp"
 #include "validator.hpp"
+#include "exhaustive_search.hpp"
 #include "refine.hpp"
 #include "nms.hpp"
 #include "match_stats.hpp"

@@ -5,7 +5,8 @@
 // The exhaustive search of the search groups whose forest rejected too little in a frame
 // (DetectorParams::exhaustive_ratio): every asked-for template at every position of the coarsest
 // level's T grid, as cv::linemod, on the linearized memories; each position keeps its best
-// templates over the threshold.
+// templates over the threshold. And without a forest (DetectorParams::use_forest false) the
+// linear LINEMOD search of every template, position by position (matchExhaustive).
 
 #include "precomp.hpp"
 #include "exhaustive_search.hpp"
@@ -195,6 +196,52 @@ void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
                                              (sc.raw * 100.f) / (4 * sc.total) + 0.5f,
                                              ref.class_id, ref.template_id));
         }
+}
+
+// Every position of one template on the coarsest level.
+static void searchTemplate(const ScenePyramid& scene, const TemplatePyramid& tp,
+                           const String& class_id, int id, float threshold,
+                           std::vector<cv::linemod::Match>& out)
+{
+    const LevelMaps& top = scene.coarsest();
+    const int L = scene.coarsestIndex();
+    const int M = top.modalities();
+    const int T = top.T;
+    const int offset = T / 2 + (T % 2 - 1);
+    const cv::linemod::Template& t = tp[L * M];
+    const int W = top.size.width / T, H = top.size.height / T;
+    const int span_x = W - ((t.width - 1) / T + 1);
+    const int span_y = H - ((t.height - 1) / T + 1);
+    const int nf = numFeatures(tp, L, M);
+    const int raw_thr = rawThreshold(threshold, nf);
+    for (int r = 0; r <= span_y; ++r)
+        for (int c = 0; c <= span_x; ++c)
+        {
+            const int raw = similarityAll(top, tp, L, Point(c * T, r * T));
+            if (raw > raw_thr)
+                out.push_back(cv::linemod::Match(c * T + offset, r * T + offset,
+                                                 (raw * 100.f) / (4 * nf) + 0.5f, class_id, id));
+        }
+}
+
+void matchExhaustive(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                     const std::vector<String>& classes, float threshold,
+                     std::vector<cv::linemod::Match>& matches, MatchCounters& counters)
+{
+    for (size_t ci = 0; ci < classes.size(); ++ci)
+    {
+        const std::vector<TemplatePyramid>& tps = pyramids.find(classes[ci])->second;
+        std::vector<std::vector<cv::linemod::Match> > per(tps.size());
+        parallel_for_(Range(0, (int)tps.size()), [&](const Range& range) {
+            for (int id = range.start; id < range.end; ++id)
+                searchTemplate(scene, tps[id], classes[ci], id, threshold, per[id]);
+        });
+        for (size_t id = 0; id < per.size(); ++id)
+            matches.insert(matches.end(), per[id].begin(), per[id].end());
+    }
+    const LevelMaps& top = scene.coarsest();
+    counters.locations += (int64)(top.size.width / top.T) * (top.size.height / top.T);
+    counters.validated += counters.locations;
 }
 
 } // namespace detail

@@ -4,14 +4,16 @@
 
 // Internal: the exhaustive search of the search groups whose forest rejected too little in a
 // frame (DetectorParams::exhaustive_ratio), as cv::linemod on the coarsest level's T grid: the
-// frame then costs at most what cv::linemod's search of the same templates costs. scoreEverywhere
-// is exported (CV_EXPORTS) for the tests and perf tests only; the header is not installed.
+// frame then costs at most what cv::linemod's search of the same templates costs; and the linear
+// search of DetectorParams::use_forest false. scoreEverywhere is exported (CV_EXPORTS) for the
+// tests and perf tests only; the header is not installed.
 
 #ifndef OPENCV_FORESTMOD_EXHAUSTIVE_SEARCH_HPP
 #define OPENCV_FORESTMOD_EXHAUSTIVE_SEARCH_HPP
 
 #include "linear_memories.hpp"
 #include "scene_pyramid.hpp"
+#include "match_stats.hpp"
 
 #include <vector>
 
@@ -37,6 +39,13 @@ with its own best lists, merged afterwards: the result does not depend on the th
 void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
                       const ClassPyramids& pyramids, const std::vector<int>& rows,
                       float threshold, int keep, std::vector<cv::linemod::Match>& out);
+
+/** Exhaustive LINEMOD search of the given classes: every template at every position of the
+coarsest level where it fits, class by class, template by template; the coarse matches over the
+threshold (refined by refineMatches, without depth: the scene has no depth contexts then). */
+void matchExhaustive(const ScenePyramid& scene, const ClassPyramids& pyramids,
+                     const std::vector<String>& classes, float threshold,
+                     std::vector<cv::linemod::Match>& matches, MatchCounters& counters);
 
 } // namespace detail
 } // namespace forestmod

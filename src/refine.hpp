@@ -11,7 +11,6 @@
 
 #include "scene_pyramid.hpp"
 #include "template_store.hpp"
-#include "match_stats.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -34,13 +33,6 @@ CV_EXPORTS void refinementRegions(const ScenePyramid& scene, const ClassPyramids
                                   const TemplateStore& store,
                                   const std::vector<cv::linemod::Match>& matches,
                                   std::vector<std::vector<Rect> >& regions);
-
-/** Exhaustive LINEMOD search of the given classes: every template at every position of the
-coarsest level where it fits, class by class, template by template; the coarse matches over the
-threshold (refined by refineMatches, without depth: the scene has no depth contexts then). */
-void matchExhaustive(const ScenePyramid& scene, const ClassPyramids& pyramids,
-                     const std::vector<String>& classes, float threshold,
-                     std::vector<cv::linemod::Match>& matches, MatchCounters& counters);
 
 } // namespace detail
 } // namespace forestmod
