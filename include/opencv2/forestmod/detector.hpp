@@ -200,7 +200,7 @@ struct CV_EXPORTS_W_SIMPLE VerificationParams
     /** Pixel step of the colour and depth samples inside the rendered mask. Default 2. */
     CV_PROP_RW int sample_step;
     /** Weights of the final score, set on real LM-O frames that the evaluation does not report
-    (doc/verification.md; w_depth is not tuned yet). */
+    (doc/verification.md; on rendered RGB-D scenes w_depth 0, 0.4 and 0.8 rank alike). */
     CV_PROP_RW double w_similarity; //!< LINEMOD similarity / 100. Default 0.1
     CV_PROP_RW double w_color;      //!< color_score. Default 0.3
     CV_PROP_RW double w_edges;      //!< edge_score. Default 0.3
