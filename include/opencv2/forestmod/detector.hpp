@@ -34,7 +34,8 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     // ---- search index (train()): search groups, descriptor windows, forests ----
     /** The forest of every search group (paper: 1 or 5 trees, depth 8 for one object, 9 for
     several). Defaults differ from ForestParams(): max_depth 0 (automatic, see
-    auto_depth_leaf_samples), rejector_coverage 0.5, rejector_dims 64 (doc/detector.md, "Search"). */
+    auto_depth_leaf_samples), rejector_coverage 0.5, rejector_dims 64 (doc/detector.md,
+    "Search"). */
     CV_PROP_RW ForestParams forest;
     /** Grid points per side of a group's descriptor window (paper: the sample locations r), over
     its largest template at the coarsest level. Default 12. */
@@ -131,7 +132,8 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_PROP int64 verified;          //!< hypotheses scored by the verification stage
     CV_PROP int64 locations;         //!< locations visited on the coarsest level
     CV_PROP int64 rejected;          //!< locations rejected before validation (all causes)
-    CV_PROP int64 rejected_flat;     //!< of which: window nearly without labels in every search group
+    //! of which: window nearly without labels in every search group
+    CV_PROP int64 rejected_flat;
     CV_PROP int64 rejected_depth_range; //!< of which: scene depth outside the templates' range
     /** locations that reached validation with candidates (the locations of a search group
     searched exhaustively, DetectorParams::exhaustive_ratio, are neither rejected nor validated
@@ -368,7 +370,8 @@ public:
     stops. Returns the number of templates added. */
     int addTemplates(const Mesh& mesh, const String& class_id, const ViewSampler& sampler,
                      const Matx33d& K, Size size,
-                     const std::function<bool(int, int)>& progress = std::function<bool(int, int)>());
+                     const std::function<bool(int, int)>& progress
+                     = std::function<bool(int, int)>());
 
     /** Same as cv::linemod::Detector::addSyntheticTemplate. */
     CV_WRAP int addSyntheticTemplate(const std::vector<cv::linemod::Template>& templates,
