@@ -71,15 +71,17 @@ PERF_TEST_P(Forestmod_Render, renderTemplates_18_views, testing::Values("ape"))
 typedef TestBaseWithParam<tuple<std::string, int> > Forestmod_DrawMesh;
 
 // What the detector's pose stage and verification draw for one hypothesis: drawMesh() of the
-// mesh simplified by vertex clustering (cells of 1 / `divisor` of the diameter; the detector uses
-// 64) into the crop around it, depth and the face of each pixel, at the default sampler's poses
-// (650-1150 mm) in a 640x480 image.
+// mesh simplified by vertex clustering (divisor 0: the detector's cells, drawingCell(); N > 0:
+// cells of 1 / N of the diameter) into the crop around it, depth and the face of each pixel, at
+// the default sampler's poses (650-1150 mm) in a 640x480 image.
 PERF_TEST_P(Forestmod_DrawMesh, coarse_mesh_640x480,
-            testing::Combine(testing::Values("ape", "driller"), testing::Values(64, 32)))
+            testing::Combine(testing::Values("ape", "driller"), testing::Values(0, 32)))
 {
     namespace fd = cv::forestmod::detail;
     const Mesh mesh = Mesh::load(meshPath(get<0>(GetParam())));
-    const Mesh coarse = fd::coarseMesh(mesh, mesh.diameter() / get<1>(GetParam()));
+    const int divisor = get<1>(GetParam());
+    const Mesh coarse = fd::coarseMesh(mesh, divisor > 0 ? mesh.diameter() / divisor
+                                                         : fd::drawingCell(mesh.diameter()));
     const int winding = fd::closedWinding(coarse);
     const Matx33d K = lmoIntrinsics();
     const Point3f c = mesh.center();

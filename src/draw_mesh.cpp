@@ -15,6 +15,11 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
+double drawingCell(double diameter)
+{
+    return std::min(diameter / 64, 2.5);
+}
+
 Mesh coarseMesh(const Mesh& mesh, double cell)
 {
     if (!(cell > 0) || mesh.vertices.empty())

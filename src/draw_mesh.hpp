@@ -16,11 +16,18 @@ namespace detail {
 
 /** The mesh simplified by vertex clustering: vertices in the same cell of a grid of `cell` mm
 are merged into their mean (position and colour), faces that lose a corner are dropped. The
-verification and the pose refinements draw it (LM-O's meshes have 12-46 k faces; with cells of
-1/64 of the diameter, 1.6-4 mm, 8-18 k are left: the can 45.7 k -> 16.2 k, the driller 25.3 k ->
-10.1 k, the ape hardly changes).
+verification and the pose refinements draw it with cells of drawingCell() (LM-O's meshes have
+12-46 k faces, 9-24 k are left: the can 45.7 k -> 24.1 k, the driller 25.3 k -> 21.7 k, the ape
+11.7 k -> 11.2 k).
 cell <= 0: the mesh as it is. */
 CV_EXPORTS Mesh coarseMesh(const Mesh& mesh, double cell);
+
+/** Cell (mm) of the coarseMesh() that the pose stage and the verification draw for an object of
+this diameter (mm): 1/64 of the diameter, at most 2.5 mm (about 1.4 px at 1 m with LM-O's
+camera). The bound is for large objects: with cells of 1/64 alone the driller's are 4 mm, its
+drawn silhouette loses detail and its correct hypotheses on real frames fit the edges less well
+than the clutter's (doc/pose.md, "Drawing at detection time"). */
+CV_EXPORTS double drawingCell(double diameter);
 
 /** The side of the faces that never shows: +1 when the mesh is closed (at least 99 % of its
 directed edges occur once, and their reverse once) and its faces turn counter-clockwise seen from

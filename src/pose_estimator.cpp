@@ -75,7 +75,7 @@ void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
     DrawnMesh d;
     d.id = next_id++;
     d.diameter = mesh.diameter();
-    d.mesh = coarseMesh(mesh, d.diameter / 64);
+    d.mesh = coarseMesh(mesh, drawingCell(d.diameter));
     d.winding = closedWinding(d.mesh);
     cvtColor(faceColours(d.mesh), d.face_hsv, COLOR_BGR2HSV);
     AutoLock lock(mutex_);

@@ -49,13 +49,14 @@ struct MeshRenderer
 };
 
 /** The ape drawn both ways for 640 x 480 images: the renderer of its full mesh, and the CPU
-drawing of the coarse copy that the detector's poses draw (coarseMesh, cells of 1/64 of the
-diameter). */
+drawing of the coarse copy that the detector's poses draw (coarseMesh with cells of
+drawingCell()). */
 struct CoarseApe
 {
     CoarseApe()
         : mr(apeMesh(), Size(640, 480)),
-          coarse(cv::forestmod::detail::coarseMesh(mr.mesh, mr.mesh.diameter() / 64)),
+          coarse(cv::forestmod::detail::coarseMesh(
+              mr.mesh, cv::forestmod::detail::drawingCell(mr.mesh.diameter()))),
           drawer(coarse, cv::forestmod::detail::closedWinding(coarse), Size(640, 480))
     {
     }

@@ -459,6 +459,43 @@ TEST(Forestmod_Verification, verify_keeps_unverifiable_hypotheses_in_order)
     EXPECT_EQ(stats.verified, 0);
 }
 
+/** A flat square plate of side `side` mm, vertices every millimetre, two faces per square. */
+static Mesh densePlate(int side)
+{
+    Mesh m;
+    for (int y = 0; y <= side; ++y)
+        for (int x = 0; x <= side; ++x)
+            m.vertices.push_back(Point3f((float)x, (float)y, 0.f));
+    for (int y = 0; y < side; ++y)
+        for (int x = 0; x < side; ++x)
+        {
+            const int i = y * (side + 1) + x;
+            m.faces.push_back(Vec3i(i, i + 1, i + side + 2));
+            m.faces.push_back(Vec3i(i, i + side + 2, i + side + 1));
+        }
+    return m;
+}
+
+// The drawn copy's cells: 1/64 of the diameter for small objects, at most 2.5 mm for large ones
+// (the driller's silhouette, doc/pose.md "Drawing at detection time").
+TEST(Forestmod_Verification, drawn_copy_keeps_cells_of_at_most_two_and_a_half_mm)
+{
+    using cv::forestmod::detail::coarseMesh;
+    using cv::forestmod::detail::drawingCell;
+    EXPECT_DOUBLE_EQ(drawingCell(100.0), 100.0 / 64);
+    EXPECT_DOUBLE_EQ(drawingCell(262.0), 2.5);
+    // a 200 mm plate (diameter 283 mm): cells of 2.5 mm leave about 80 x 80 vertices, cells of
+    // 1/64 of the diameter (4.4 mm) would leave 46 x 46
+    const Mesh plate = densePlate(200);
+    const Mesh drawn = coarseMesh(plate, drawingCell(plate.diameter()));
+    EXPECT_GE(drawn.vertices.size(), 78u * 78u);
+    EXPECT_LE(drawn.vertices.size(), 82u * 82u);
+    // a 50 mm plate (diameter 71 mm, cells of 1.1 mm): as 1/64 of the diameter gives
+    const Mesh small = densePlate(50);
+    EXPECT_EQ(coarseMesh(small, drawingCell(small.diameter())).vertices.size(),
+              coarseMesh(small, small.diameter() / 64).vertices.size());
+}
+
 // The verification draws closed meshes without the faces seen from inside: the same pixels,
 // depths and colours as drawing every face; the orientation of the faces is found from the mesh.
 TEST(Forestmod_Verification, drawing_skips_the_inside_of_closed_meshes)
@@ -467,7 +504,7 @@ TEST(Forestmod_Verification, drawing_skips_the_inside_of_closed_meshes)
     using cv::forestmod::detail::coarseMesh;
     using cv::forestmod::detail::drawMesh;
     const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
-    const Mesh coarse = coarseMesh(ape, ape.diameter() / 64);
+    const Mesh coarse = coarseMesh(ape, cv::forestmod::detail::drawingCell(ape.diameter()));
     EXPECT_EQ(closedWinding(ape), 1);
     ASSERT_EQ(closedWinding(coarse), 1);
     Mesh reversed = coarse;
