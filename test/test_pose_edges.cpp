@@ -148,15 +148,21 @@ TEST(Forestmod_PoseEdges, DISABLED_edge_refinement_variants)
         }
 }
 
+/** ../shared/data/lmo (FORESTMOD_SHARED_DATA); the test is skipped without it. */
+static std::string sharedLmoRoot()
+{
+    const std::string shared = sharedDataPath();
+    if (shared.empty())
+        throw SkipTestException("FORESTMOD_SHARED_DATA does not point to ../shared/data");
+    return shared + "/lmo";
+}
+
 // The real-frame numbers of doc/pose.md: the demo's ape model (scripts/demo.sh's sampler) on the
 // 50 LM-O frames of ../shared (FORESTMOD_SHARED_DATA), RGB only:
 //   ./bin/opencv_test_forestmod --gtest_filter='*edge_refinement_on_real_frames' --gtest_also_run_disabled_tests
 TEST(Forestmod_PoseEdges, DISABLED_edge_refinement_on_real_frames)
 {
-    const std::string shared = sharedDataPath();
-    if (shared.empty())
-        throw SkipTestException("FORESTMOD_SHARED_DATA does not point to ../shared/data");
-    const std::string root = shared + "/lmo";
+    const std::string root = sharedLmoRoot();
     const BopDataset ds = BopDataset::open(root);
     const Mesh ape = Mesh::load(root + "/models/obj_000001.ply");
     ViewSampler::Params sp;
@@ -271,10 +277,7 @@ static TruthDrift refineFromTruth(Renderer& renderer, int handle, const Mat& ima
 //   ./bin/opencv_test_forestmod --gtest_filter='*refinement_from_the_ground_truth*'
 TEST(Forestmod_PoseEdges, DISABLED_refinement_from_the_ground_truth_on_real_frames)
 {
-    const std::string shared = sharedDataPath();
-    if (shared.empty())
-        throw SkipTestException("FORESTMOD_SHARED_DATA does not point to ../shared/data");
-    const std::string root = shared + "/lmo";
+    const std::string root = sharedLmoRoot();
     const BopDataset ds = BopDataset::open(root);
     const std::vector<Frame> frames = ds.frames(2);
     ASSERT_GE(frames.size(), (size_t)50);
