@@ -23,7 +23,7 @@ PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids
                       const TemplateStore& store);
 
 /** A class's mesh as the pose stage and the verification draw it: coarseMesh() (vertices
-clustered on a grid of drawingCell() of the diameter), its closedWinding(), the full mesh's diameter (mm)
+clustered on a grid of drawingCell(diameter) mm), its closedWinding(), the full mesh's diameter (mm)
 and each face's colour in HSV (faceColours(), for the verification's colour score). */
 struct DrawnMesh
 {
