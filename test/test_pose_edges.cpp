@@ -253,12 +253,10 @@ struct TruthDrift
     double error, du, dv;
 };
 
-static TruthDrift refineFromTruth(Renderer& renderer, int handle, const Mat& image,
+static TruthDrift refineFromTruth(Renderer& renderer, int handle, const EdgeMaps& maps,
                                   const Matx33d& K, const GroundTruth& gt,
                                   const std::vector<Point3f>& pts)
 {
-    EdgeMaps maps;
-    computeEdgeMaps(image, maps);
     const EdgeRefineResult r = refinePoseEdges(renderer, handle, maps, K, gt.R, gt.t);
     const Vec3d a = K * gt.t, b = K * r.t;
     TruthDrift d;
@@ -303,14 +301,17 @@ TEST(Forestmod_PoseEdges, DISABLED_refinement_from_the_ground_truth_on_real_fram
             renderer->render(handle[gt.obj_id], gt.R, gt.t, frames[f].K, color, noArray(), mask);
             color.copyTo(scene, mask);
         }
+        EdgeMaps img_maps, scene_maps; // once per frame, for all its instances
+        computeEdgeMaps(img, img_maps);
+        computeEdgeMaps(scene, scene_maps);
         for (size_t g = 0; g < frames[f].gt.size(); ++g)
         {
             const GroundTruth& gt = frames[f].gt[g];
             if (gt.visib_fract < 0.5)
                 continue;
-            real[gt.obj_id].push_back(refineFromTruth(*renderer, handle[gt.obj_id], img,
+            real[gt.obj_id].push_back(refineFromTruth(*renderer, handle[gt.obj_id], img_maps,
                                                       frames[f].K, gt, pts[gt.obj_id]));
-            pasted[gt.obj_id].push_back(refineFromTruth(*renderer, handle[gt.obj_id], scene,
+            pasted[gt.obj_id].push_back(refineFromTruth(*renderer, handle[gt.obj_id], scene_maps,
                                                         frames[f].K, gt, pts[gt.obj_id]));
         }
     }
