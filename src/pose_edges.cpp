@@ -171,11 +171,7 @@ void computeEdgeMaps(InputArray _image, EdgeMaps& maps, const EdgeRefineParams& 
 
 namespace {
 
-struct EdgePoint
-{
-    Point3d model; // model coordinates, mm
-    int bin;
-};
+using detail::EdgePoint;
 
 // bilinear sample of a CV_32F map; false outside (1 px margin for the differences)
 static inline bool sampleMap(const Mat& m, double u, double v, double& val, double& gu, double& gv)
@@ -459,85 +455,136 @@ EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& map
 
 } // namespace detail
 
-static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const EdgeMaps& maps,
-                                   const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
-                                   const EdgeRefineParams& params, Ptr<detail::Drawing>* last)
+namespace detail {
+
+EdgeFit::EdgeFit(const ObjectDrawer& drawer, const EdgeMaps& maps, const Matx33d& K,
+                 const Matx33d& R0, const Vec3d& t0, const EdgeRefineParams& params)
+    : drawer_(&drawer), maps_(&maps), K_(K), params_(params), pass_(0), drawn_(false)
 {
-    EdgeRefineResult res;
-    res.R = R0;
-    res.t = t0;
-    std::vector<EdgePoint> pts;
-    for (int pass = 0; pass < params.passes; ++pass)
+    res_.R = R0;
+    res_.t = t0;
+}
+
+void EdgeFit::run(int end)
+{
+    const EdgeRefineParams& params = params_;
+    EdgeRefineResult& res = res_;
+    std::vector<EdgePoint>& pts = pts_;
+    end = std::min(end, params.passes);
+    for (; pass_ < end; ++pass_)
     {
-        extractEdgePoints(drawer, K, res.R, res.t, params, pts);
+        if (!drawn_)
+            extractEdgePoints(*drawer_, K_, res.R, res.t, params, pts);
+        drawn_ = false;
         if (pts.size() < 6)
+        {
+            pass_ = params.passes; // nothing to fit: the quality says so
             break;
+        }
         // rotation centre: centroid of the edge points in the camera frame
         Vec3d c(0, 0, 0);
         for (size_t i = 0; i < pts.size(); ++i)
             c += res.R * Vec3d(pts[i].model.x, pts[i].model.y, pts[i].model.z) + res.t;
         c *= 1.0 / pts.size();
         // coarse to fine: the truncation shrinks from max_distance to a third of it
-        const double top = std::min(params.max_distance, maps.max_distance);
+        const double top = std::min(params.max_distance, maps_->max_distance);
         const double dmax = params.passes == 1 ? top
-            : top * (1.0 - (2.0 / 3.0) * pass / (params.passes - 1));
-        double lambda = 1e-3;
-        Matx66d A;
-        Vec6d b;
-        double cost = edgeCost(pts, maps, dmax, K, res.R, res.t, params.huber, c, &A, &b, 0, 0, 0);
-        for (int it = 0; it < params.iterations; ++it)
-        {
-            ++res.iterations;
-            bool accepted = false, converged = false;
-            const double before = cost;
-            for (int tries = 0; tries < 6 && !accepted; ++tries)
-            {
-                Matx66d H = A;
-                for (int k = 0; k < 6; ++k)
-                    H(k, k) += lambda * (A(k, k) + 1e-9);
-                Vec6d delta;
-                if (!solve(H, -b, delta, DECOMP_CHOLESKY))
-                {
-                    lambda *= 10;
-                    continue;
-                }
-                Matx33d dR;
-                Rodrigues(Vec3d(delta[0], delta[1], delta[2]), dR);
-                const Matx33d R2 = dR * res.R;
-                const Vec3d t2 = dR * (res.t - c) + c + Vec3d(delta[3], delta[4], delta[5]);
-                const double cost2 = edgeCost(pts, maps, dmax, K, R2, t2, params.huber, c, 0, 0, 0, 0,
-                                              0);
-                if (cost2 < cost)
-                {
-                    c += Vec3d(delta[3], delta[4], delta[5]); // the rotation centre moves with the object
-                    res.R = R2;
-                    res.t = t2;
-                    lambda = std::max(lambda * 0.3, 1e-7);
-                    cost = edgeCost(pts, maps, dmax, K, res.R, res.t, params.huber, c, &A, &b, 0, 0,
-                                    0);
-                    accepted = true;
-                    // converged: the step lowered the cost by less than 0.1 %
-                    converged = before - cost < 1e-3 * before;
-                }
-                else
-                    lambda *= 10;
-            }
-            if (!accepted || converged)
-                break;
-        }
+            : top * (1.0 - (2.0 / 3.0) * pass_ / (params.passes - 1));
+        levenbergMarquardt(pts, dmax, c);
     }
+}
+
+void EdgeFit::levenbergMarquardt(const std::vector<EdgePoint>& pts, double dmax, Vec3d c)
+{
+    const EdgeRefineParams& params = params_;
+    EdgeRefineResult& res = res_;
+    const EdgeMaps& maps = *maps_;
+    const Matx33d& K = K_;
+    double lambda = 1e-3;
+    Matx66d A;
+    Vec6d b;
+    double cost = edgeCost(pts, maps, dmax, K, res.R, res.t, params.huber, c, &A, &b, 0, 0, 0);
+    for (int it = 0; it < params.iterations; ++it)
+    {
+        ++res.iterations;
+        bool accepted = false, converged = false;
+        const double before = cost;
+        for (int tries = 0; tries < 6 && !accepted; ++tries)
+        {
+            Matx66d H = A;
+            for (int k = 0; k < 6; ++k)
+                H(k, k) += lambda * (A(k, k) + 1e-9);
+            Vec6d delta;
+            if (!solve(H, -b, delta, DECOMP_CHOLESKY))
+            {
+                lambda *= 10;
+                continue;
+            }
+            Matx33d dR;
+            Rodrigues(Vec3d(delta[0], delta[1], delta[2]), dR);
+            const Matx33d R2 = dR * res.R;
+            const Vec3d t2 = dR * (res.t - c) + c + Vec3d(delta[3], delta[4], delta[5]);
+            const double cost2 = edgeCost(pts, maps, dmax, K, R2, t2, params.huber, c, 0, 0, 0, 0,
+                                          0);
+            if (cost2 < cost)
+            {
+                c += Vec3d(delta[3], delta[4], delta[5]); // the rotation centre moves with the object
+                res.R = R2;
+                res.t = t2;
+                lambda = std::max(lambda * 0.3, 1e-7);
+                cost = edgeCost(pts, maps, dmax, K, res.R, res.t, params.huber, c, &A, &b, 0, 0,
+                                0);
+                accepted = true;
+                // converged: the step lowered the cost by less than 0.1 %
+                converged = before - cost < 1e-3 * before;
+            }
+            else
+                lambda *= 10;
+        }
+        if (!accepted || converged)
+            break;
+    }
+}
+
+double EdgeFit::inlierRatio()
+{
+    std::vector<EdgePoint>& pts = pts_;
+    if (!drawn_)
+        extractEdgePoints(*drawer_, K_, res_.R, res_.t, params_, pts);
+    drawn_ = true; // the next pass starts from these points
+    int in = 0;
+    edgeCost(pts, *maps_, maps_->max_distance, K_, res_.R, res_.t, params_.huber, Vec3d(), 0, 0,
+             &in, params_.inlier_distance, 0);
+    return pts.size() < 6 ? 0.0 : double(in) / pts.size();
+}
+
+EdgeRefineResult EdgeFit::finish(Ptr<Drawing>* last)
+{
+    run(params_.passes);
     // quality at the final pose, with its own rendering (kept in *last when asked)
-    extractEdgePoints(drawer, K, res.R, res.t, params, pts, last);
+    EdgeRefineResult res = res_;
+    std::vector<EdgePoint>& pts = pts_;
+    extractEdgePoints(*drawer_, K_, res.R, res.t, params_, pts, last);
     res.points = (int)pts.size();
     int in = 0;
-    edgeCost(pts, maps, maps.max_distance, K, res.R, res.t, params.huber, Vec3d(), 0, 0, &in,
-             params.inlier_distance, &res.mean_distance);
+    edgeCost(pts, *maps_, maps_->max_distance, K_, res.R, res.t, params_.huber, Vec3d(), 0, 0,
+             &in, params_.inlier_distance, &res.mean_distance);
     res.inlier_ratio = pts.empty() ? 0.0 : double(in) / pts.size();
     Vec3d c(0, 0, 0);
     for (size_t i = 0; i < pts.size(); ++i)
         c += Vec3d(pts[i].model.x, pts[i].model.y, pts[i].model.z);
     res.center = pts.empty() ? c : c * (1.0 / pts.size());
     return res;
+}
+
+} // namespace detail
+
+static EdgeRefineResult refineFrom(const detail::ObjectDrawer& drawer, const EdgeMaps& maps,
+                                   const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
+                                   const EdgeRefineParams& params, Ptr<detail::Drawing>* last)
+{
+    detail::EdgeFit fit(drawer, maps, K, R0, t0, params);
+    return fit.finish(last);
 }
 
 } // namespace forestmod

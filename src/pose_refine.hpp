@@ -28,6 +28,45 @@ CV_EXPORTS EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const Ed
                                             const EdgeRefineParams& params,
                                             Ptr<Drawing>* last = 0);
 
+/** A point of the drawn object's silhouette: model coordinates (mm) and the orientation bin of
+its normal in the image. */
+struct EdgePoint
+{
+    Point3d model;
+    int bin;
+};
+
+/** refinePoseEdges() from one start, in steps: run() the first passes, inlierRatio() at the pose
+reached, finish() the rest. PoseEstimator refines a location's hypotheses this way and lets only
+the best of them go on after the first pass (PoseParams::rgb_keep). The drawer and the maps must
+outlive it. */
+class CV_EXPORTS EdgeFit
+{
+public:
+    EdgeFit(const ObjectDrawer& drawer, const EdgeMaps& maps, const Matx33d& K, const Matx33d& R0,
+            const Vec3d& t0, const EdgeRefineParams& params);
+    /** Runs the passes up to `end` (at most params.passes; those already run are skipped). */
+    void run(int end);
+    /** Share of the silhouette points within params.inlier_distance of a scene edge of their
+    orientation, at the pose reached (the next pass starts from that drawing). */
+    double inlierRatio();
+    /** Runs the remaining passes; the result as refinePoseEdges() gives it, and the drawing at its
+    pose in *last when asked. */
+    EdgeRefineResult finish(Ptr<Drawing>* last = 0);
+
+private:
+    void levenbergMarquardt(const std::vector<EdgePoint>& pts, double dmax, Vec3d c);
+
+    const ObjectDrawer* drawer_;
+    const EdgeMaps* maps_;
+    Matx33d K_;
+    EdgeRefineParams params_;
+    EdgeRefineResult res_;
+    std::vector<EdgePoint> pts_;
+    int pass_;
+    bool drawn_; // pts_ drawn at res_'s pose
+};
+
 /** refinePose() (render, back-project, ICP; `passes` times) with the object drawn by
 `drawer`. */
 CV_EXPORTS ICPResult refinePose(const ObjectDrawer& drawer, InputArray scene_depth,
