@@ -385,6 +385,14 @@ void Detector::estimatePoses(InputArray depth, const Matx33d& K, std::vector<Pos
                           edge_maps);
 }
 
+void Detector::choosePoses(const Matx33d& K, const std::vector<std::vector<PoseMatch> >& locations,
+                           const PoseParams& params, InputArray color,
+                           std::vector<PoseMatch>& detections, EdgeMaps& edge_maps) const
+{
+    impl_->poses.chooseAmong(impl_->store, locations, K, params, color.getMat(), detections,
+                             edge_maps);
+}
+
 void Detector::verify(InputArray color, InputArray depth, const Matx33d& K,
                       std::vector<PoseMatch>& matches, const VerificationParams& params,
                       DetectionStats* stats) const

@@ -18,7 +18,7 @@ namespace forestmod {
 
 PoseParams::PoseParams()
     : max_per_class(3), icp(true), icp_passes(2), depth_check_tolerance(0.05),
-      min_depth_agreement(0.5), rgb_refine(true), rgb_hypotheses(8)
+      min_depth_agreement(0.5), rgb_refine(true), rgb_hypotheses(16), rgb_keep(2)
 {
 }
 
@@ -35,6 +35,7 @@ void PoseParams::read(const FileNode& fn)
     if (!fn["edge_params"].empty())
         edge_params.read(fn["edge_params"]);
     detail::readField(fn, "rgb_hypotheses", rgb_hypotheses);
+    detail::readField(fn, "rgb_keep", rgb_keep);
     if (!fn["verification"].empty())
         verification.read(fn["verification"]);
 }
@@ -50,7 +51,7 @@ void PoseParams::write(FileStorage& fs) const
     fs << "edge_params" << "{";
     edge_params.write(fs);
     fs << "}";
-    fs << "rgb_hypotheses" << rgb_hypotheses;
+    fs << "rgb_hypotheses" << rgb_hypotheses << "rgb_keep" << rgb_keep;
     fs << "verification" << "{";
     verification.write(fs);
     fs << "}";
@@ -101,6 +102,7 @@ static void checkPoseInputs(const Mat& depth, const Matx33d& K, const PoseParams
     CV_CheckGT(params.icp_passes, 0, "PoseParams: icp_passes must be positive");
     CV_CheckGE(params.max_per_class, 0, "PoseParams: max_per_class must be >= 0");
     CV_CheckGE(params.rgb_hypotheses, 1, "PoseParams: rgb_hypotheses must be >= 1");
+    CV_CheckGE(params.rgb_keep, 1, "PoseParams: rgb_keep must be >= 1");
     CV_CheckGT(params.depth_check_tolerance, 0.0, "PoseParams: depth_check_tolerance must be > 0");
     if (!depth.empty() && depth.type() != CV_16UC1)
         CV_Error_(Error::StsUnsupportedFormat, ("forestmod::Detector::estimatePoses: depth must "
@@ -214,9 +216,52 @@ void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const Po
     });
 }
 
+// The fits that go on after the first pass: all of them, or with `location` the `keep` best of
+// each location (by inlier ratio after the first pass, the earlier hypothesis on a tie).
+static std::vector<int> fitsToFinish(std::vector<EdgeFit>& fits, const std::vector<int>* location,
+                                     int keep)
+{
+    const int n = (int)fits.size();
+    std::vector<int> go;
+    std::map<int, int> per_location;
+    bool crowded = false;
+    for (int k = 0; location && k < n; ++k)
+        crowded |= ++per_location[(*location)[k]] > keep;
+    if (!crowded)
+    {
+        for (int k = 0; k < n; ++k)
+            go.push_back(k);
+        return go;
+    }
+    std::vector<double> ratio(n, 0.0);
+    parallel_for_(Range(0, n), [&](const Range& r) {
+        for (int k = r.start; k < r.end; ++k)
+        {
+            fits[k].run(1);
+            ratio[k] = fits[k].inlierRatio();
+        }
+    });
+    std::vector<int> order(n);
+    for (int k = 0; k < n; ++k)
+        order[k] = k;
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+        const int la = (*location)[a], lb = (*location)[b];
+        return la != lb ? la < lb : ratio[a] != ratio[b] ? ratio[a] > ratio[b] : a < b;
+    });
+    for (int k = 0, rank = 0; k < n; ++k)
+    {
+        rank = k > 0 && (*location)[order[k]] == (*location)[order[k - 1]] ? rank + 1 : 0;
+        if (rank < keep)
+            go.push_back(order[k]);
+    }
+    std::sort(go.begin(), go.end());
+    return go;
+}
+
 void PoseEstimator::refineWithEdges(const Mat& color, const Matx33d& K, const PoseParams& params,
                                     std::vector<PoseMatch>& matches,
-                                    const std::vector<size_t>& refine, EdgeMaps& edge_maps) const
+                                    const std::vector<size_t>& refine, EdgeMaps& edge_maps,
+                                    const std::vector<int>* location) const
 {
     if (refine.empty())
         return;
@@ -226,17 +271,26 @@ void PoseEstimator::refineWithEdges(const Mat& color, const Matx33d& K, const Po
     else // checked here, not in the parallel loop
         checkEdgeMaps(edge_maps, params.edge_params.orientations, color.size(),
                       "forestmod::Detector::estimatePoses");
+    const int n = (int)refine.size();
+    std::vector<MeshDrawer> drawers;
+    std::vector<EdgeFit> fits;
+    drawers.reserve(n); // the fits keep pointers to them
+    fits.reserve(n);
+    for (int k = 0; k < n; ++k)
+    {
+        const PoseMatch& m = matches[refine[k]];
+        double diameter = 0;
+        drawers.push_back(drawerOf(m.class_id, color.size(), diameter));
+        fits.push_back(EdgeFit(drawers.back(), edge_maps, K, m.R, m.t, params.edge_params));
+    }
+    const std::vector<int> go = fitsToFinish(fits, location, params.rgb_keep);
     // drawn on the CPU (drawMesh, no lock): the hypotheses refine in parallel
-    parallel_for_(Range(0, (int)refine.size()), [&](const Range& r) {
-        for (int k = r.start; k < r.end; ++k)
+    parallel_for_(Range(0, (int)go.size()), [&](const Range& r) {
+        for (int j = r.start; j < r.end; ++j)
         {
-            PoseMatch& m = matches[refine[k]];
-            double diameter = 0;
+            PoseMatch& m = matches[refine[go[j]]];
             Ptr<Drawing> drawn; // at er's pose, for the verification
-            const EdgeRefineResult er = refinePoseEdges(drawerOf(m.class_id, color.size(),
-                                                                 diameter),
-                                                        edge_maps, K, m.R, m.t,
-                                                        params.edge_params, &drawn);
+            const EdgeRefineResult er = fits[go[j]].finish(&drawn);
             if (er.points > 0)
             {
                 m.R = er.R;
@@ -282,7 +336,6 @@ void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vecto
                                     const PoseParams& params, const Mat& color,
                                     std::vector<PoseMatch>& detections, EdgeMaps& edge_maps)
 {
-    checkPoseInputs(Mat(), K, params, color, all);
     // each detection's group: itself, then the matches of its class it suppressed
     std::vector<int> group_of(all.size(), -1);
     std::vector<std::vector<PoseMatch> > groups;
@@ -298,26 +351,55 @@ void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vecto
         if (all[i].class_id == g[0].class_id && (int)g.size() < params.rgb_hypotheses)
             g.push_back(all[i]);
     }
+    chooseAmong(store, groups, K, params, color, detections, edge_maps);
+}
+
+void PoseEstimator::chooseAmong(const TemplateStore& store,
+                                std::vector<std::vector<PoseMatch> > groups, const Matx33d& K,
+                                const PoseParams& params, const Mat& color,
+                                std::vector<PoseMatch>& detections, EdgeMaps& edge_maps)
+{
+    std::vector<PoseMatch> flat; // every group's hypotheses, for the input checks
+    for (size_t g = 0; g < groups.size(); ++g)
+    {
+        if (groups[g].empty())
+            CV_Error_(Error::StsBadArg, ("forestmod::Detector::choosePoses: location %d holds no "
+                                         "match", (int)g));
+        for (size_t h = 0; h < groups[g].size(); ++h)
+        {
+            if (groups[g][h].class_id != groups[g][0].class_id)
+                CV_Error_(Error::StsBadArg, ("forestmod::Detector::choosePoses: location %d "
+                                             "mixes the classes %s and %s", (int)g,
+                                             groups[g][0].class_id.c_str(),
+                                             groups[g][h].class_id.c_str()));
+            flat.push_back(groups[g][h]);
+        }
+    }
+    checkPoseInputs(Mat(), K, params, color, flat);
     // the hypotheses of the first max_per_class groups per class, refined together (one set of
-    // edge maps, in parallel); the other groups keep their first match's template pose
+    // edge maps, in parallel, the rgb_keep best of each group after the first pass); the other
+    // groups keep their first match's template pose
     std::map<String, int> per_class;
-    std::vector<PoseMatch> flat;
+    flat.clear();
     std::vector<size_t> first(groups.size() + 1, 0), refine;
+    std::vector<int> location;
     for (size_t g = 0; g < groups.size(); ++g)
     {
         const bool refined = per_class[groups[g][0].class_id]++ < params.max_per_class;
-        if (!refined)
-            groups[g].resize(1);
+        groups[g].resize(refined ? std::min(groups[g].size(), (size_t)params.rgb_hypotheses) : 1);
         for (size_t h = 0; h < groups[g].size(); ++h)
         {
             flat.push_back(groups[g][h]);
             if (startPose(store, Mat(), K, flat.back()) && refined && params.rgb_refine
                 && !color.empty() && hasMesh(flat.back().class_id))
+            {
                 refine.push_back(flat.size() - 1);
+                location.push_back((int)g);
+            }
         }
         first[g + 1] = flat.size();
     }
-    refineWithEdges(color, K, params, flat, refine, edge_maps);
+    refineWithEdges(color, K, params, flat, refine, edge_maps, &location);
     detections.clear();
     for (size_t g = 0; g < groups.size(); ++g)
     {

@@ -58,6 +58,13 @@ public:
                          const PoseParams& params, const Mat& color,
                          std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);
 
+    /** Detector::choosePoses: each location's pose chosen among its matches (`locations[g]`, one
+    class, best first) by edge fit, as chooseByEdgeFit does with the groups of non-maximum
+    suppression. */
+    void chooseAmong(const TemplateStore& store, std::vector<std::vector<PoseMatch> > locations,
+                     const Matx33d& K, const PoseParams& params, const Mat& color,
+                     std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);
+
     /** What the verification and the refinements draw of a class; null without a mesh. The
     pointer stays valid until setMesh() is called again (which must not run concurrently with
     detection). */
@@ -72,10 +79,12 @@ private:
                          std::vector<PoseMatch>& matches, const std::vector<size_t>& refine,
                          std::vector<char>& drop) const;
     // edge alignment of matches[refine[k]] (classes with a mesh), drawn with drawMesh() in
-    // parallel, against one set of edge maps: edge_maps if not empty, else made around them
+    // parallel, against one set of edge maps: edge_maps if not empty, else made around them.
+    // With `location` (location[k]: the location of refine[k]), only the params.rgb_keep best
+    // edge fits of each location after the first pass go on; the others keep their start pose
     void refineWithEdges(const Mat& color, const Matx33d& K, const PoseParams& params,
                          std::vector<PoseMatch>& matches, const std::vector<size_t>& refine,
-                         EdgeMaps& edge_maps) const;
+                         EdgeMaps& edge_maps, const std::vector<int>* location = 0) const;
     std::map<String, DrawnMesh> drawn_; //!< drawnMesh()
     mutable Mutex mutex_;               //!< guards drawn_
 };

@@ -42,6 +42,7 @@ struct EvalOptions
     float threshold;
     bool rgb_refine, rgb_grid;
     int rgb_hypotheses;            //!< PoseParams::rgb_hypotheses
+    int rgb_keep;                  //!< PoseParams::rgb_keep
 
     std::string regime;            //!< "paper" or "quick"
     fm::ViewSampler::Params sampler;
@@ -234,13 +235,14 @@ struct RunContext
     bool rgb_refine;
     bool rgb_grid;
     int rgb_hypotheses;
+    int rgb_keep;
     int repeat;
     Progress* progress;
     fm::VerificationParams verify; //!< top_k: hypotheses per object scored (recall@top_k)
 };
 
 /** The run's context from the options (--threshold, --rgb_refine, --rgb_grid, --rgb_hypotheses,
---repeat, --verify_k, --verify_weights) for these frames and this progress line. */
+--rgb_keep, --repeat, --verify_k, --verify_weights) for these frames and this progress line. */
 RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& frames, bool use_depth,
                       Progress& progress);
 

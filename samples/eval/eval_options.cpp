@@ -42,7 +42,9 @@ static const char* const keys
       "(PoseParams::rgb_refine, refinePoseEdges), the pose chosen among the overlapping matches "
       "(PoseParams::rgb_hypotheses); false: score the best template's pose as is }"
       "{rgb_hypotheses  |          | without depth: matches refined per location, the best edge "
-      "fit kept (PoseParams::rgb_hypotheses; default: the library's, 8) }"
+      "fit kept (PoseParams::rgb_hypotheses; default: the library's, 16) }"
+      "{rgb_keep        |          | without depth: hypotheses of a location refined past the "
+      "first pass (PoseParams::rgb_keep; default: the library's, 2) }"
       "{rgb_grid        | false    | the coarse grid search of refinePoseEdges before the "
       "refinement (EdgeRefineParams::search_angle 12 degrees; library default: off) }"
       "{regime          | paper    | template sampling: paper (LINEMOD's: level 2 ~16 deg views, "
@@ -98,7 +100,8 @@ static const char* const keys
 
 EvalOptions::EvalOptions()
     : scene(2), max_frames(0), first_frame(0), synthetic(0), rgb_only(false), threshold(80.f), rgb_refine(true),
-      rgb_grid(false), rgb_hypotheses(fm::PoseParams().rgb_hypotheses), regime("paper"),
+      rgb_grid(false), rgb_hypotheses(fm::PoseParams().rgb_hypotheses),
+      rgb_keep(fm::PoseParams().rgb_keep), regime("paper"),
       tables(true), multi(true), heat_frames(3), threads(1),
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
@@ -222,6 +225,8 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.rgb_grid = parser.get<bool>("rgb_grid");
     if (parser.has("rgb_hypotheses"))
         opt.rgb_hypotheses = parser.get<int>("rgb_hypotheses");
+    if (parser.has("rgb_keep"))
+        opt.rgb_keep = parser.get<int>("rgb_keep");
     opt.regime = parser.get<std::string>("regime");
     opt.dry_run = parser.has("dry_run");
     opt.tables = parser.get<bool>("tables");
@@ -304,6 +309,8 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     }
     if (opt.rgb_hypotheses < 1)
         return fail("--rgb_hypotheses must be >= 1");
+    if (opt.rgb_keep < 1)
+        return fail("--rgb_keep must be >= 1");
     if (opt.verify_k < 1)
         return fail("--verify_k must be >= 1");
     if (opt.fuzzy_margin < 0.f && opt.fuzzy_margin != -1.f)

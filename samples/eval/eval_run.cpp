@@ -114,6 +114,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     if (ctx.rgb_grid)
         pp.edge_params.search_angle = 12;
     pp.rgb_hypotheses = ctx.rgb_hypotheses;
+    pp.rgb_keep = ctx.rgb_keep;
     // RGB-D: a location's first max_per_class matches go through ICP and the depth check, the
     // first one left is its hypothesis (LINEMOD ACCV 2012's post-processing). RGB: refined, the
     // pose is chosen among the matches of the class overlapping the location's first (as
@@ -122,8 +123,6 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     const bool choose = !use_depth && ctx.rgb_refine;
     const size_t keep = use_depth ? (size_t)pp.max_per_class
                                   : choose ? (size_t)pp.rgb_hypotheses : 1;
-    if (choose)
-        pp.max_per_class = pp.rgb_hypotheses;
     const size_t K = (size_t)std::max(1, ctx.verify.top_k);
     std::vector<std::vector<fm::PoseMatch> > groups;
     for (size_t i = 0; i < matches.size(); ++i)
@@ -164,21 +163,28 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
             }
         fm::computeEdgeMaps(f.rgb, edge_maps, pp.edge_params, roi);
     }
-    for (size_t g = 0; g < groups.size(); ++g)
+    if (choose)
+    {
+        // every location refined, its pose chosen as Detector::detect() chooses it
+        pp.max_per_class = (int)groups.size();
+        std::vector<fm::PoseMatch> chosen;
+        posedet.choosePoses(f.K, groups, pp, f.rgb, chosen, edge_maps);
+        for (size_t g = 0; g < chosen.size(); ++g)
+            if (chosen[g].has_pose)
+                top.push_back(chosen[g]);
+    }
+    for (size_t g = 0; g < groups.size() && !choose; ++g)
     {
         std::vector<fm::PoseMatch>& hyp = groups[g];
-        posedet.estimatePoses(use_depth ? f.depth : cv::Mat(), f.K, hyp, pp,
-                              choose ? f.rgb : cv::Mat(), edge_maps);
-        const fm::PoseMatch* best = 0;
-        for (size_t i = 0; i < hyp.size() && (!best || choose); ++i)
-            if (hyp[i].has_pose && (!best || hyp[i].edge_fit > best->edge_fit))
-                best = &hyp[i];
-        if (best)
-        {
-            fm::PoseMatch m = *best;
-            m.similarity = hyp[0].similarity; // the location's rank stays the matcher's
-            top.push_back(m);
-        }
+        posedet.estimatePoses(use_depth ? f.depth : cv::Mat(), f.K, hyp, pp, cv::Mat(),
+                              edge_maps);
+        for (size_t i = 0; i < hyp.size(); ++i)
+            if (hyp[i].has_pose) // the first left (RGB-D: after the depth check)
+            {
+                top.push_back(hyp[i]);
+                top.back().similarity = hyp[0].similarity; // the location's rank stays
+                break;
+            }
     }
     res.pose.push_back((cv::getTickCount() - t_pose) * 1000.0 / cv::getTickFrequency());
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -375,6 +381,7 @@ RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& fram
     ctx.rgb_refine = opt.rgb_refine;
     ctx.rgb_grid = opt.rgb_grid;
     ctx.rgb_hypotheses = opt.rgb_hypotheses;
+    ctx.rgb_keep = opt.rgb_keep;
     ctx.repeat = opt.repeat;
     ctx.progress = &progress;
     ctx.verify.top_k = opt.verify_k;
