@@ -351,7 +351,7 @@ void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vecto
         if (all[i].class_id == g[0].class_id && (int)g.size() < params.rgb_hypotheses)
             g.push_back(all[i]);
     }
-    chooseAmong(store, groups, K, params, color, detections, edge_maps);
+    chooseAmong(store, std::move(groups), K, params, color, detections, edge_maps);
 }
 
 void PoseEstimator::chooseAmong(const TemplateStore& store,
