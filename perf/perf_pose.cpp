@@ -122,6 +122,71 @@ PERF_TEST(Forestmod_Pose, refinePoseEdges_VGA)
     SANITY_CHECK_NOTHING();
 }
 
+/** A match whose template pose is (R, t) with intrinsics K, placed where that pose projects the
+mesh: its initial pose in a frame of the same K is (R, t) itself. */
+static PoseMatch matchAtPose(const Mesh& mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t)
+{
+    std::vector<Point2f> px;
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+    {
+        const Vec3d q = K * (R * Vec3d(mesh.vertices[i].x, mesh.vertices[i].y,
+                                       mesh.vertices[i].z) + t);
+        px.push_back(Point2f((float)(q[0] / q[2]), (float)(q[1] / q[2])));
+    }
+    PoseMatch m;
+    m.class_id = "ape";
+    m.pose.R = R;
+    m.pose.t = t;
+    m.pose.K = K;
+    m.pose.box = boundingRect(px);
+    m.pose.valid = true;
+    m.box = m.pose.box;
+    m.x = m.box.x;
+    m.y = m.box.y;
+    m.similarity = 90.f;
+    return m;
+}
+
+// Without depth: Detector::choosePoses of one location of 16 matches (the rendered ape pasted on a
+// real frame; the matches' poses turned 4-40 degrees from the truth), the param being
+// PoseParams::rgb_keep: 2 (the default) refines the 2 best fits after the first pass to the end,
+// 16 every match. The frame's edge maps are made once, outside the loop. Time per location.
+typedef perf::TestBaseWithParam<int> Forestmod_ChoosePoses;
+PERF_TEST_P(Forestmod_ChoosePoses, ape_16_matches_VGA, testing::Values(2, 16))
+{
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    MeshRenderer mr(ape, Size(640, 480));
+    const Matx33d K = lmoIntrinsics();
+    Matx33d R;
+    Vec3d t;
+    ViewSampler::lookAt(ape.center(), Vec3d(0.5, 0.5, 0.7071), 750, 30, R, t);
+    Mat img = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png")), color, mask;
+    ASSERT_FALSE(img.empty());
+    mr.renderer->render(mr.handle, R, t, K, color, noArray(), mask);
+    color.copyTo(img, mask);
+    cv::forestmod::Detector det;
+    det.setMesh("ape", ape);
+    RNG rng(8);
+    const Vec3d c = R * Vec3d(ape.center().x, ape.center().y, ape.center().z) + t;
+    std::vector<std::vector<PoseMatch> > location(1);
+    for (int i = 0; i < 16; ++i)
+    {
+        const Matx33d dR = randomRotation(rng, (4.0 + 36.0 * i / 15) * CV_PI / 180);
+        location[0].push_back(matchAtPose(ape, K, dR * R, dR * (t - c) + c));
+    }
+    PoseParams params;
+    params.rgb_hypotheses = 16;
+    params.rgb_keep = GetParam();
+    EdgeMaps maps;
+    computeEdgeMaps(img, maps, params.edge_params);
+    std::vector<PoseMatch> chosen;
+    TEST_CYCLE() det.choosePoses(K, location, params, img, chosen, maps);
+    ASSERT_EQ(1u, chosen.size());
+    ASSERT_TRUE(chosen[0].refined);
+    ASSERT_LT(projectionError2D(ape.vertices, K, chosen[0].R, chosen[0].t, R, t), 2.0);
+    SANITY_CHECK_NOTHING();
+}
+
 // The depth check of one hypothesis (render + compare) on VGA.
 PERF_TEST(Forestmod_Pose, depthCheck_VGA)
 {
