@@ -37,6 +37,10 @@ static const char* keys
       "verification's order; their scores on the overlay) }"
       "{verify          | true | verify and re-rank the detections (PoseParams::verification) }"
       "{verify_k        | 10   | hypotheses verified per class (VerificationParams::top_k) }"
+      "{rgb_hypotheses  | 16   | without depth: matches a detection's pose is chosen among "
+      "(PoseParams::rgb_hypotheses) }"
+      "{rgb_keep        | 4    | without depth: of those, refined past the first pass "
+      "(PoseParams::rgb_keep) }"
       "{out             |      | overlay PNG }"
       "{force           |      | overwrite the overlay }";
 
@@ -110,6 +114,9 @@ int main(int argc, char** argv)
     const int top = parser.get<int>("top");
     const bool verify = parser.get<bool>("verify");
     const int verify_k = parser.get<int>("verify_k");
+    cv::forestmod::PoseParams pose_params;
+    pose_params.rgb_hypotheses = parser.get<int>("rgb_hypotheses");
+    pose_params.rgb_keep = parser.get<int>("rgb_keep");
     const std::string out = parser.get<std::string>("out");
     const std::string Kstr = parser.get<std::string>("K");
     const std::string meshes_arg = parser.get<std::string>("meshes");
@@ -240,7 +247,6 @@ int main(int argc, char** argv)
         }
         cv::forestmod::DetectionStats stats;
         std::vector<cv::forestmod::PoseMatch> matches;
-        cv::forestmod::PoseParams pose_params;
         pose_params.verification.enabled = verify;
         pose_params.verification.top_k = verify_k;
         detector.detect(sources, K, threshold, matches, std::vector<cv::String>(), pose_params,

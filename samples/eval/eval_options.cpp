@@ -44,7 +44,7 @@ static const char* const keys
       "{rgb_hypotheses  |          | without depth: matches refined per location, the best edge "
       "fit kept (PoseParams::rgb_hypotheses; default: the library's, 16) }"
       "{rgb_keep        |          | without depth: hypotheses of a location refined past the "
-      "first pass (PoseParams::rgb_keep; default: the library's, 2) }"
+      "first pass (PoseParams::rgb_keep; default: the library's, 4) }"
       "{rgb_grid        | false    | the coarse grid search of refinePoseEdges before the "
       "refinement (EdgeRefineParams::search_angle 12 degrees; library default: off) }"
       "{regime          | paper    | template sampling: paper (LINEMOD's: level 2 ~16 deg views, "

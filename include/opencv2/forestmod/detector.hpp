@@ -256,9 +256,9 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
     CV_PROP_RW int rgb_hypotheses;
     /** Of a detection's rgb_hypotheses matches, those whose edge fit is among the rgb_keep best
     after the refinement's first pass go on to its other passes; the others keep their
-    template's pose. On LM-O's tuning frames 2 of 16 gave a higher projection recall than all of
-    8 refined fully, in 0.9x the time (doc/pose.md). >= rgb_hypotheses refines every match
-    fully. Default 2. */
+    template's pose. On LM-O's tuning frames 4 of 16 gave a higher projection recall than all of
+    8 refined fully, in about the same time (doc/pose.md). >= rgb_hypotheses refines every match
+    fully. Default 4. */
     CV_PROP_RW int rgb_keep;
 
     void read(const FileNode& fn);
