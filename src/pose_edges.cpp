@@ -476,6 +476,7 @@ void EdgeFit::run(int end)
         if (!drawn_)
             extractEdgePoints(*drawer_, K_, res.R, res.t, params, pts);
         drawn_ = false;
+        drawing_.release();
         if (pts.size() < 6)
         {
             pass_ = params.passes; // nothing to fit: the quality says so
@@ -550,8 +551,8 @@ double EdgeFit::inlierRatio()
 {
     std::vector<EdgePoint>& pts = pts_;
     if (!drawn_)
-        extractEdgePoints(*drawer_, K_, res_.R, res_.t, params_, pts);
-    drawn_ = true; // the next pass starts from these points
+        extractEdgePoints(*drawer_, K_, res_.R, res_.t, params_, pts, &drawing_);
+    drawn_ = true; // the next pass (or finish(), after the last) starts from these points
     int in = 0;
     edgeCost(pts, *maps_, maps_->max_distance, K_, res_.R, res_.t, params_.huber, Vec3d(), 0, 0,
              &in, params_.inlier_distance, 0);
@@ -561,10 +562,14 @@ double EdgeFit::inlierRatio()
 EdgeRefineResult EdgeFit::finish(Ptr<Drawing>* last)
 {
     run(params_.passes);
-    // quality at the final pose, with its own rendering (kept in *last when asked)
+    // quality at the final pose, with its own rendering (kept in *last when asked); drawn
+    // already when inlierRatio() was asked after the last pass
     EdgeRefineResult res = res_;
     std::vector<EdgePoint>& pts = pts_;
-    extractEdgePoints(*drawer_, K_, res.R, res.t, params_, pts, last);
+    if (!drawn_)
+        extractEdgePoints(*drawer_, K_, res.R, res.t, params_, pts, last);
+    else if (last)
+        *last = drawing_;
     res.points = (int)pts.size();
     int in = 0;
     edgeCost(pts, *maps_, maps_->max_distance, K_, res.R, res.t, params_.huber, Vec3d(), 0, 0,

@@ -64,7 +64,8 @@ private:
     EdgeRefineResult res_;
     std::vector<EdgePoint> pts_;
     int pass_;
-    bool drawn_; // pts_ drawn at res_'s pose
+    bool drawn_;            // pts_ drawn at res_'s pose, by inlierRatio()
+    Ptr<Drawing> drawing_;  // that drawing
 };
 
 /** refinePose() (render, back-project, ICP; `passes` times) with the object drawn by

@@ -216,6 +216,22 @@ TEST(Forestmod_DetectorPose, choose_poses_keeps_the_best_fits_of_the_first_pass)
         EXPECT_EQ(cv::norm(Mat(alone[0].R), Mat(one[0].R), NORM_INF), 0.0);
         EXPECT_EQ(cv::norm(Mat(alone[0].t), Mat(one[0].t), NORM_INF), 0.0);
         EXPECT_EQ(alone[0].edge_fit, one[0].edge_fit);
+        // with one pass the first pass's drawing is also the final one: the same pose again
+        PoseParams one_pass = keep1;
+        one_pass.edge_params.passes = 1;
+        std::vector<PoseMatch> short_fit, short_alone;
+        det->choosePoses(lmoIntrinsics(), loc, one_pass, scene.color, short_fit, maps);
+        ASSERT_EQ(short_fit.size(), 1u);
+        ASSERT_TRUE(short_fit[0].refined);
+        EXPECT_FALSE(short_fit[0].drawing.empty());
+        for (size_t h = 0; h < loc[0].size(); ++h)
+            if (loc[0][h].template_id == short_fit[0].template_id)
+                short_alone.assign(1, loc[0][h]);
+        ASSERT_EQ(short_alone.size(), 1u);
+        det->estimatePoses(noArray(), lmoIntrinsics(), short_alone, one_pass, scene.color, maps);
+        EXPECT_EQ(cv::norm(Mat(short_alone[0].R), Mat(short_fit[0].R), NORM_INF), 0.0);
+        EXPECT_EQ(cv::norm(Mat(short_alone[0].t), Mat(short_fit[0].t), NORM_INF), 0.0);
+        EXPECT_EQ(short_alone[0].edge_fit, short_fit[0].edge_fit);
         const double err = projectionError2D(as.ape.vertices, lmoIntrinsics(), one[0].R,
                                              one[0].t, scene.R, scene.t);
         good += err < 5;
