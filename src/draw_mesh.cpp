@@ -9,6 +9,8 @@
 #include "precomp.hpp"
 #include "draw_mesh.hpp"
 
+#include "opencv2/core/hal/intrin.hpp"
+
 #include <map>
 
 namespace cv {
@@ -178,9 +180,115 @@ Mat faceColours(const Mesh& mesh)
     return colours;
 }
 
+// The pixels of one face (corners a, b, c in the crop, inv = 1 / signedArea, pixel bounds x0..x1,
+// y0..y1 inside the crop) that lie inside it and nearer than the z-buffer take its depth and index.
+// A pixel is inside when its three barycentric weights are >= 0. The vector path computes every
+// pixel with the scalar path's operations in the same order (no fused multiply-add in either), so
+// both draw the same image (Forestmod_Verification.drawing_vector_path_draws_as_the_scalar_one).
+static void drawFace(const Vec3f& a, const Vec3f& b, const Vec3f& c, float inv, int f, int x0,
+                     int x1, int y0, int y1, Mat& zbuf, Mat& face_of, bool vector_path)
+{
+#if CV_SIMD128
+    const v_float32x4 va0 = v_setall_f32(a[0]), vb0 = v_setall_f32(b[0]),
+                      vc0 = v_setall_f32(c[0]), va2 = v_setall_f32(a[2]),
+                      vb2 = v_setall_f32(b[2]), vc2 = v_setall_f32(c[2]),
+                      vinv = v_setall_f32(inv), one = v_setall_f32(1.f), zero = v_setall_f32(0.f);
+    const v_int32x4 lane(0, 1, 2, 3), last = v_setall_s32(x1), vf = v_setall_s32(f);
+    const int width = zbuf.cols;
+#else
+    CV_UNUSED(vector_path);
+#endif
+    for (int y = y0; y <= y1; ++y)
+    {
+        float* zr = zbuf.ptr<float>(y);
+        int* fr = face_of.ptr<int>(y);
+        int x = x0;
+#if CV_SIMD128
+        if (vector_path)
+        {
+            const float fy = (float)y;
+            const v_float32x4 a1y = v_setall_f32(a[1] - fy), b1y = v_setall_f32(b[1] - fy),
+                              c1y = v_setall_f32(c[1] - fy);
+            for (; x <= x1 && x + 4 <= width; x += 4)
+            {
+                const v_int32x4 xi = v_setall_s32(x) + lane;
+                const v_float32x4 xs = v_cvt_f32(xi);
+                const v_float32x4 w0 = ((vb0 - xs) * c1y - b1y * (vc0 - xs)) * vinv;
+                const v_float32x4 w1 = ((vc0 - xs) * a1y - c1y * (va0 - xs)) * vinv;
+                const v_float32x4 w2 = one - w0 - w1;
+                const v_float32x4 z = w0 * va2 + w1 * vb2 + w2 * vc2;
+                const v_float32x4 old = v_load(zr + x);
+                const v_float32x4 nearer = (w0 >= zero) & (w1 >= zero) & (w2 >= zero)
+                    & (z < old) & v_reinterpret_as_f32(xi <= last);
+                v_store(zr + x, v_select(nearer, z, old));
+                v_store(fr + x, v_select(v_reinterpret_as_s32(nearer), vf, v_load(fr + x)));
+            }
+        }
+#endif
+        for (; x <= x1; ++x)
+        {
+            float w0, w1, w2;
+            barycentric(a, b, c, inv, x, y, w0, w1, w2);
+            if (w0 < 0 || w1 < 0 || w2 < 0)
+                continue;
+            const float z = w0 * a[2] + w1 * b[2] + w2 * c[2];
+            if (!(z < zr[x]))
+                continue;
+            zr[x] = z;
+            fr[x] = f;
+        }
+    }
+}
+
+// A face is drawn when it faces the camera (the sign of its signed area against inside_sign, the
+// winding's sign; every face when 0) and its box holds a pixel centre of the crop.
+static inline bool faceBounds(const Vec3f& a, const Vec3f& b, const Vec3f& c, float inside_sign,
+                              Size sz, float& area, int& x0, int& x1, int& y0, int& y1)
+{
+    area = signedArea(a, b, c);
+    if (std::abs(area) < 1e-12f || area * inside_sign > 0)
+        return false;
+    x0 = std::max(0, cvCeil(std::min(a[0], std::min(b[0], c[0]))));
+    x1 = std::min(sz.width - 1, cvFloor(std::max(a[0], std::max(b[0], c[0]))));
+    y0 = std::max(0, cvCeil(std::min(a[1], std::min(b[1], c[1]))));
+    y1 = std::min(sz.height - 1, cvFloor(std::max(a[1], std::max(b[1], c[1]))));
+    return x0 <= x1 && y0 <= y1;
+}
+
+#if CV_SIMD128
+// faceBounds of faces f .. f + 3 at once (the same operations); returns a bit per drawn face
+static inline int faceBounds4(const Vec3i* faces, const float* p, float inside_sign, Size sz,
+                              float area[4], int x0[4], int x1[4], int y0[4], int y1[4])
+{
+    v_int32x4 i0, i1, i2;
+    v_load_deinterleave((const int*)faces, i0, i1, i2);
+    i0 = i0 + i0 + i0; // offsets of (u, v, z) in p
+    i1 = i1 + i1 + i1;
+    i2 = i2 + i2 + i2;
+    const v_float32x4 au = v_lut(p, i0), av = v_lut(p + 1, i0), bu = v_lut(p, i1),
+                      bv = v_lut(p + 1, i1), cu = v_lut(p, i2), cv = v_lut(p + 1, i2);
+    const v_float32x4 s = (bu - au) * (cv - av) - (bv - av) * (cu - au);
+    const v_int32x4 zero = v_setzero_s32();
+    const v_int32x4 vx0 = v_max(zero, v_ceil(v_min(au, v_min(bu, cu))));
+    const v_int32x4 vx1 = v_min(v_setall_s32(sz.width - 1), v_floor(v_max(au, v_max(bu, cu))));
+    const v_int32x4 vy0 = v_max(zero, v_ceil(v_min(av, v_min(bv, cv))));
+    const v_int32x4 vy1 = v_min(v_setall_s32(sz.height - 1), v_floor(v_max(av, v_max(bv, cv))));
+    const v_float32x4 skip = (v_abs(s) < v_setall_f32(1e-12f))
+        | (s * v_setall_f32(inside_sign) > v_setall_f32(0.f));
+    const v_int32x4 drawn = ~v_reinterpret_as_s32(skip) & (vx0 <= vx1) & (vy0 <= vy1);
+    v_store(area, s);
+    v_store(x0, vx0);
+    v_store(x1, vx1);
+    v_store(y0, vy0);
+    v_store(y1, vy1);
+    return v_signmask(drawn);
+}
+#endif
+
 // The nearest face of every pixel (z-buffer and face index); p receives the projected vertices
 // (u, v in the crop, z), from which the colour of the nearest faces only is interpolated
 // afterwards (colourVisibleFaces), so that the faces drawn over do not cost their colours.
+// Faces are drawn in index order; a pixel keeps the first of equally near faces.
 static void rasterize(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
                       const Vec3d& t, Size image, int margin, Drawing& d, std::vector<Vec3f>& p)
 {
@@ -233,44 +341,54 @@ static void rasterize(const Mesh& mesh, int winding, const Matx33d& K, const Mat
     Mat& face_of = d.face;
     face_of.create(sz, CV_32S);
     face_of.setTo(Scalar(-1));
-    for (size_t f = 0; f < mesh.faces.size(); ++f)
+    const bool vector_path = useOptimized();
+    const Vec3i* faces = mesh.faces.data();
+    const int nf = (int)mesh.faces.size();
+    int f = 0;
+#if CV_SIMD128
+    if (vector_path)
     {
-        const Vec3i& F = mesh.faces[f];
-        const Vec3f &a = p[F[0]], &b = p[F[1]], &c = p[F[2]];
-        const float area = signedArea(a, b, c);
-        if (std::abs(area) < 1e-12f || area * inside_sign > 0)
-            continue;
-        const int ux0 = std::max(0, cvCeil(std::min(a[0], std::min(b[0], c[0]))));
-        const int ux1 = std::min(sz.width - 1,
-                                 cvFloor(std::max(a[0], std::max(b[0], c[0]))));
-        const int vy0 = std::max(0, cvCeil(std::min(a[1], std::min(b[1], c[1]))));
-        const int vy1 = std::min(sz.height - 1,
-                                 cvFloor(std::max(a[1], std::max(b[1], c[1]))));
-        if (ux0 > ux1 || vy0 > vy1)
-            continue;
-        const float inv = 1.f / area;
-        for (int y = vy0; y <= vy1; ++y)
+        float area[4];
+        int bx0[4], bx1[4], by0[4], by1[4];
+        for (; f + 4 <= nf; f += 4)
         {
-            float* zr = zbuf.ptr<float>(y);
-            int* fr = face_of.ptr<int>(y);
-            for (int x = ux0; x <= ux1; ++x)
-            {
-                float w0, w1, w2;
-                barycentric(a, b, c, inv, x, y, w0, w1, w2);
-                if (w0 < 0 || w1 < 0 || w2 < 0)
-                    continue;
-                const float z = w0 * a[2] + w1 * b[2] + w2 * c[2];
-                if (!(z < zr[x]))
-                    continue;
-                zr[x] = z;
-                fr[x] = (int)f;
-            }
+            int drawn = faceBounds4(faces + f, (const float*)p.data(), inside_sign, sz, area,
+                                    bx0, bx1, by0, by1);
+            for (int k = 0; drawn; ++k, drawn >>= 1)
+                if (drawn & 1)
+                {
+                    const Vec3i& F = faces[f + k];
+                    drawFace(p[F[0]], p[F[1]], p[F[2]], 1.f / area[k], f + k, bx0[k], bx1[k],
+                             by0[k], by1[k], zbuf, face_of, true);
+                }
         }
     }
-    d.mask = face_of >= 0;
-    zbuf.setTo(0, ~d.mask);
-    zbuf.convertTo(d.depth, CV_16U);
-    d.depth.setTo(1, d.mask & (d.depth == 0));
+#endif
+    for (; f < nf; ++f)
+    {
+        const Vec3i& F = faces[f];
+        float area;
+        int bx0, bx1, by0, by1;
+        if (faceBounds(p[F[0]], p[F[1]], p[F[2]], inside_sign, sz, area, bx0, bx1, by0, by1))
+            drawFace(p[F[0]], p[F[1]], p[F[2]], 1.f / area, f, bx0, bx1, by0, by1, zbuf, face_of,
+                     vector_path);
+    }
+    // mask and depth (mm, rounded as convertTo does; at least 1 on the object, 0 off it)
+    d.mask.create(sz, CV_8U);
+    d.depth.create(sz, CV_16U);
+    for (int y = 0; y < sz.height; ++y)
+    {
+        const float* zr = zbuf.ptr<float>(y);
+        const int* fr = face_of.ptr<int>(y);
+        uchar* mr = d.mask.ptr<uchar>(y);
+        ushort* dr = d.depth.ptr<ushort>(y);
+        for (int x = 0; x < sz.width; ++x)
+        {
+            const bool on = fr[x] >= 0;
+            mr[x] = on ? 255 : 0;
+            dr[x] = on ? std::max<ushort>(saturate_cast<ushort>(zr[x]), 1) : 0;
+        }
+    }
 }
 
 void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R, const Vec3d& t,

@@ -547,6 +547,56 @@ TEST(Forestmod_Verification, drawing_skips_the_inside_of_closed_meshes)
     }
 }
 
+// The rasterizer's vector path (faces four at a time, pixels four at a time) draws every pixel as
+// the scalar path (cv::setUseOptimized(false)) does: the same face, depth and mask, bit for bit,
+// for closed and open drawing (winding 1 and 0), near and far views, and objects cut by the image
+// border (the crop's last columns, drawn by the scalar tail).
+TEST(Forestmod_Verification, drawing_vector_path_draws_as_the_scalar_one)
+{
+    using cv::forestmod::detail::Drawing;
+    namespace fd = cv::forestmod::detail;
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    const Mesh coarse = fd::coarseMesh(ape, fd::drawingCell(ape.diameter()));
+    ViewSampler::Params sp;
+    sp.level = 1;
+    sp.radii = std::vector<double>{250.0, 700.0, 1400.0};
+    const Point3d c(ape.center().x, ape.center().y, ape.center().z);
+    const std::vector<ViewPose> views = ViewSampler(sp).poses(c);
+    ASSERT_GE(views.size(), 30u);
+    const Matx33d K = lmoIntrinsics();
+    const Size image(640, 480);
+    const bool was_optimized = useOptimized();
+    int compared = 0, border = 0;
+    for (size_t i = 0; i < views.size(); i += 3)
+    {
+        // every other view moved towards a corner, so that the image border cuts the object
+        Vec3d t = views[i].t;
+        if (i % 2)
+            t += Vec3d(0.45 * t[2] * image.width / K(0, 0), 0.4 * t[2] * image.height / K(1, 1), 0);
+        for (int winding = 0; winding <= 1; ++winding)
+        {
+            Drawing d[2];
+            for (int pass = 0; pass < 2; ++pass)
+            {
+                setUseOptimized(pass == 0);
+                fd::drawMesh(coarse, winding, K, views[i].R, t, image, 8, d[pass]);
+            }
+            setUseOptimized(was_optimized);
+            ASSERT_FALSE(d[0].face.empty()) << i;
+            ASSERT_GT(countNonZero(d[0].mask), 100) << i;
+            EXPECT_EQ(d[0].rect, d[1].rect) << i;
+            EXPECT_EQ(cvtest::norm(d[0].face, d[1].face, NORM_INF), 0) << i << " " << winding;
+            EXPECT_EQ(cvtest::norm(d[0].depth, d[1].depth, NORM_INF), 0) << i << " " << winding;
+            EXPECT_EQ(cvtest::norm(d[0].mask, d[1].mask, NORM_INF), 0) << i << " " << winding;
+            ++compared;
+            border += d[0].rect.br().x == image.width
+                && countNonZero(d[0].mask.col(d[0].mask.cols - 1)) > 0;
+        }
+    }
+    EXPECT_GE(compared, 20);
+    EXPECT_GE(border, 4); // the scalar tail was exercised
+}
+
 // The contour check reads Sobel gradients at single pixels: equal to cv::Sobel on the image and
 // on ROIs (whose neighbours outside are read), at every pixel including the image's edges, and to
 // strongestGradient() (the edge refinement's) for colour images.
