@@ -11,6 +11,7 @@
 #include "edge_gradient.hpp"
 #include "pose_refine.hpp"
 #include "opencv2/calib3d.hpp"
+#include "opencv2/core/hal/intrin.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -75,6 +76,120 @@ static void checkEdgeParams(const EdgeRefineParams& p, const char* func)
 
 namespace detail {
 
+// Per column, the distance (px) to the nearest nonzero pixel of edges in that column, at most cap:
+// a pass down and a pass up (each row from the previous one, all columns at once).
+static void columnDistance(const Mat& edges, int cap, Mat& col)
+{
+    const int W = edges.cols, H = edges.rows;
+    col.create(edges.size(), CV_8UC1);
+    const bool vector_path = useOptimized();
+    for (int y = 0; y < H; ++y)
+    {
+        const uchar* e = edges.ptr<uchar>(y);
+        const uchar* above = y > 0 ? col.ptr<uchar>(y - 1) : 0;
+        uchar* c = col.ptr<uchar>(y);
+        int x = 0;
+#if CV_SIMD128
+        if (vector_path && above)
+        {
+            const v_uint8x16 z = v_setzero_u8(), one = v_setall_u8(1), vcap = v_setall_u8(
+                (uchar)cap);
+            for (; x + 16 <= W; x += 16)
+            {
+                const v_uint8x16 d = v_min(v_load(above + x) + one, vcap); // saturating add
+                v_store(c + x, v_select(v_load(e + x) == z, d, z));
+            }
+        }
+#endif
+        for (; x < W; ++x)
+            c[x] = e[x] ? 0 : (uchar)std::min(above ? above[x] + 1 : cap, cap);
+    }
+    for (int y = H - 2; y >= 0; --y)
+    {
+        const uchar* below = col.ptr<uchar>(y + 1);
+        uchar* c = col.ptr<uchar>(y);
+        int x = 0;
+#if CV_SIMD128
+        if (vector_path)
+        {
+            const v_uint8x16 one = v_setall_u8(1);
+            for (; x + 16 <= W; x += 16)
+                v_store(c + x, v_min(v_load(c + x), v_load(below + x) + one));
+        }
+#endif
+        for (; x < W; ++x)
+            c[x] = (uchar)std::min<int>(c[x], below[x] + 1);
+    }
+}
+
+void truncatedDistance(const Mat& edges, double max_distance, Mat& dist)
+{
+    CV_Assert(edges.type() == CV_8UC1 && max_distance > 0);
+    const int W = edges.cols, H = edges.rows;
+    dist.create(edges.size(), CV_32FC1);
+    if (max_distance > 100) // beyond the 16-bit sums below
+    {
+        Mat free_of = edges == 0, d;
+        distanceTransform(free_of, d, DIST_L2, DIST_MASK_PRECISE);
+        min(d, max_distance, dist);
+        return;
+    }
+    // r: the reach (an edge within max_distance lies within r rows and r columns); a column
+    // distance of cap = r + 1 stands for "none within reach": cap^2 > r^2 >= max_distance^2
+    const int r = cvCeil(max_distance), cap = r + 1;
+    Mat col;
+    columnDistance(edges, cap, col);
+    // per row: d^2(x) = min over |k| <= r of k^2 + col(x + k)^2, the row padded with cap
+    std::vector<ushort> sq(W + 2 * r);
+    std::vector<ushort> best(W);
+    const bool vector_path = useOptimized();
+    const float top = (float)max_distance;
+    for (int y = 0; y < H; ++y)
+    {
+        const uchar* c = col.ptr<uchar>(y);
+        std::fill(sq.begin(), sq.end(), (ushort)(cap * cap));
+        for (int x = 0; x < W; ++x)
+            sq[x + r] = (ushort)(c[x] * c[x]);
+        for (int x = 0; x < W; ++x)
+            best[x] = sq[x + r];
+        for (int k = 1; k <= r; ++k)
+        {
+            const ushort kk = (ushort)(k * k);
+            const ushort* left = &sq[r - k];
+            const ushort* right = &sq[r + k];
+            int x = 0;
+#if CV_SIMD128
+            if (vector_path)
+            {
+                const v_uint16x8 vkk = v_setall_u16(kk);
+                for (; x + 8 <= W; x += 8)
+                    v_store(&best[x], v_min(v_load(&best[x]),
+                                            v_min(v_load(left + x), v_load(right + x)) + vkk));
+            }
+#endif
+            for (; x < W; ++x)
+                best[x] = std::min<ushort>(best[x], (ushort)(std::min(left[x], right[x]) + kk));
+        }
+        float* out = dist.ptr<float>(y);
+        int x = 0;
+#if CV_SIMD128
+        if (vector_path)
+        {
+            const v_float32x4 vtop = v_setall_f32(top);
+            for (; x + 8 <= W; x += 8)
+            {
+                v_uint32x4 lo, hi;
+                v_expand(v_load(&best[x]), lo, hi);
+                v_store(out + x, v_min(v_sqrt(v_cvt_f32(v_reinterpret_as_s32(lo))), vtop));
+                v_store(out + x + 4, v_min(v_sqrt(v_cvt_f32(v_reinterpret_as_s32(hi))), vtop));
+            }
+        }
+#endif
+        for (; x < W; ++x)
+            out[x] = std::min(std::sqrt((float)best[x]), top);
+    }
+}
+
 void strongestGradient(const Mat& img, Mat& dx, Mat& dy)
 {
     Mat sx, sy;
@@ -137,9 +252,9 @@ void computeEdgeMaps(InputArray _image, EdgeMaps& maps, const EdgeRefineParams& 
     Mat dx, dy;
     strongestGradient(sub, dx, dy);
     const int B = params.orientations;
-    std::vector<Mat> free_of(B); // 0 on edges of bin b or its neighbours, 255 elsewhere
+    std::vector<Mat> near_bin(B); // 255 on edges of bin b or its neighbours, 0 elsewhere
     for (int b = 0; b < B; ++b)
-        free_of[b] = Mat(roi.size(), CV_8UC1, Scalar(255));
+        near_bin[b] = Mat::zeros(roi.size(), CV_8UC1);
     for (int y = 0; y < roi.height; ++y)
     {
         const uchar* e = maps.edges.ptr<uchar>(y + roi.y) + roi.x;
@@ -150,20 +265,19 @@ void computeEdgeMaps(InputArray _image, EdgeMaps& maps, const EdgeRefineParams& 
             if (!e[x])
                 continue;
             const int b = orientationBin(gx[x], gy[x], B);
-            free_of[b].ptr<uchar>(y)[x] = 0;
-            free_of[(b + 1) % B].ptr<uchar>(y)[x] = 0;
-            free_of[(b + B - 1) % B].ptr<uchar>(y)[x] = 0;
+            near_bin[b].ptr<uchar>(y)[x] = 255;
+            near_bin[(b + 1) % B].ptr<uchar>(y)[x] = 255;
+            near_bin[(b + B - 1) % B].ptr<uchar>(y)[x] = 255;
         }
     }
     maps.distance.resize(B);
     parallel_for_(Range(0, B), [&](const Range& r) {
         for (int b = r.start; b < r.end; ++b)
         {
-            Mat dist;
-            distanceTransform(free_of[b], dist, DIST_L2, DIST_MASK_5);
             maps.distance[b].create(img.size(), CV_32FC1);
             maps.distance[b].setTo(Scalar(params.max_distance));
-            min(dist, params.max_distance, maps.distance[b](roi));
+            Mat inside = maps.distance[b](roi);
+            detail::truncatedDistance(near_bin[b], params.max_distance, inside);
         }
     });
     maps.max_distance = params.max_distance;

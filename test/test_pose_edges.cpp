@@ -407,6 +407,64 @@ TEST(Forestmod_PoseEdges, edge_maps_measure_distance_to_edges_of_the_same_orient
                  cv::Exception);
 }
 
+// The edge maps' distance transform is exact up to its truncation: equal to the distance to the
+// nearest edge pixel found by brute force, for sparse and dense edges, reaches below and above
+// the image's size, ROIs in and out, and beyond the 16-bit path (max_distance > 100, through
+// cv::distanceTransform); the vector path gives the scalar path's values bit for bit.
+TEST(Forestmod_PoseEdges, truncated_distance_is_exact_up_to_the_truncation)
+{
+    using cv::forestmod::detail::truncatedDistance;
+    RNG rng(5);
+    const double reaches[] = {1.5, 4, 15, 22.5, 130};
+    const double densities[] = {0.0, 0.002, 0.05};
+    for (double density : densities)
+        for (double reach : reaches)
+        {
+            Mat big(70, 90, CV_8UC1, Scalar(0));
+            for (int y = 0; y < big.rows; ++y)
+                for (int x = 0; x < big.cols; ++x)
+                    big.at<uchar>(y, x) = rng.uniform(0.0, 1.0) < density ? 255 : 0;
+            big.at<uchar>(3, 80) = density > 0 ? 255 : 0;
+            const Mat edges = big(Rect(3, 2, 83, 61)); // not continuous
+            std::vector<Point> on;
+            findNonZero(edges, on);
+            Mat out_big(80, 100, CV_32FC1, Scalar(-1)), vec;
+            Mat dist = out_big(Rect(5, 7, edges.cols, edges.rows));
+            const bool was_optimized = useOptimized();
+            setUseOptimized(false);
+            truncatedDistance(edges, reach, dist);
+            setUseOptimized(true);
+            truncatedDistance(edges, reach, vec);
+            setUseOptimized(was_optimized);
+            ASSERT_EQ(CV_32FC1, vec.type());
+            ASSERT_EQ(edges.size(), vec.size());
+            EXPECT_EQ(0, cvtest::norm(dist, vec, NORM_INF)) << density << " " << reach;
+            EXPECT_EQ(-1.f, out_big.at<float>(0, 0)); // written into the roi only
+            int below = 0;
+            for (int y = 0; y < edges.rows; ++y)
+            {
+                for (int x = 0; x < edges.cols; ++x)
+                {
+                    double d2 = 1e30;
+                    for (size_t i = 0; i < on.size(); ++i)
+                        d2 = std::min(d2, (double)(on[i].x - x) * (on[i].x - x)
+                                          + (double)(on[i].y - y) * (on[i].y - y));
+                    const double expected = std::min(std::sqrt(d2), reach);
+                    below += expected < reach;
+                    ASSERT_NEAR(expected, dist.at<float>(y, x), reach > 100 ? 1e-3 : 1e-6)
+                        << density << " " << reach << " at " << x << "," << y;
+                }
+            }
+            if (density > 0 && reach > 2)
+            {
+                EXPECT_GT(below, edges.rows); // the truncation does not hide everything
+            }
+        }
+    Mat dist;
+    EXPECT_THROW(truncatedDistance(Mat(4, 4, CV_32FC1, Scalar(0)), 5, dist), cv::Exception);
+    EXPECT_THROW(truncatedDistance(Mat(4, 4, CV_8UC1, Scalar(0)), 0, dist), cv::Exception);
+}
+
 TEST(Forestmod_PoseEdges, params_roundtrip_and_bad_input)
 {
     EdgeRefineParams p;
