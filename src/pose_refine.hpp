@@ -26,7 +26,7 @@ exact, truncated at max_distance (> 0): dist (CV_32FC1, the size of edges) = min
 max_distance); max_distance where edges has no nonzero pixel. computeEdgeMaps() makes its maps
 with it: up to a max_distance of 100 px by two passes bound by the truncation (per column the
 nearest edge above and below, then per row the nearest of the columns within max_distance; the
-vector path four to sixteen pixels at a time), beyond with cv::distanceTransform (DIST_MASK_PRECISE). */
+vector path 4-16 pixels at a time), beyond with cv::distanceTransform (DIST_MASK_PRECISE). */
 CV_EXPORTS void truncatedDistance(const Mat& edges, double max_distance, Mat& dist);
 
 /** refinePoseEdges() with the object drawn by `drawer`; `last` (when given) receives the drawing
