@@ -140,18 +140,15 @@ void truncatedDistance(const Mat& edges, double max_distance, Mat& dist)
     Mat col;
     columnDistance(edges, cap, col);
     // per row: d^2(x) = min over |k| <= r of k^2 + col(x + k)^2, the row padded with cap
-    std::vector<ushort> sq(W + 2 * r);
+    std::vector<ushort> sq(W + 2 * r, (ushort)(cap * cap)); // the padding stays cap^2
     std::vector<ushort> best(W);
     const bool vector_path = useOptimized();
     const float top = (float)max_distance;
     for (int y = 0; y < H; ++y)
     {
         const uchar* c = col.ptr<uchar>(y);
-        std::fill(sq.begin(), sq.end(), (ushort)(cap * cap));
         for (int x = 0; x < W; ++x)
-            sq[x + r] = (ushort)(c[x] * c[x]);
-        for (int x = 0; x < W; ++x)
-            best[x] = sq[x + r];
+            best[x] = sq[x + r] = (ushort)(c[x] * c[x]);
         for (int k = 1; k <= r; ++k)
         {
             const ushort kk = (ushort)(k * k);
@@ -275,7 +272,8 @@ void computeEdgeMaps(InputArray _image, EdgeMaps& maps, const EdgeRefineParams& 
         for (int b = r.start; b < r.end; ++b)
         {
             maps.distance[b].create(img.size(), CV_32FC1);
-            maps.distance[b].setTo(Scalar(params.max_distance));
+            if (roi != full) // outside the roi; inside, truncatedDistance writes every pixel
+                maps.distance[b].setTo(Scalar(params.max_distance));
             Mat inside = maps.distance[b](roi);
             detail::truncatedDistance(near_bin[b], params.max_distance, inside);
         }
