@@ -8,6 +8,7 @@
 
 #include "precomp.hpp"
 #include "params_io.hpp"
+#include "pose_refine.hpp"
 #include "opencv2/calib3d.hpp"
 
 #ifdef HAVE_FORESTMOD_EIGEN
@@ -105,29 +106,27 @@ static void checkParams(const ICPParams& p)
 
 namespace {
 
-/** The scene depth image seen as a point cloud, with normals computed on demand and cached. */
+/** Pixel (x, y) with depth z (mm) back-projected through the pinhole K (with skew). */
+static inline Vec3d backProject(const Matx33d& K, int x, int y, double z)
+{
+    const double yn = (y - K(1, 2)) / K(1, 1);
+    const double xn = (x - K(0, 2) - K(0, 1) * yn) / K(0, 0);
+    return Vec3d(xn * z, yn * z, z);
+}
+
+/** The scene depth image seen as a point cloud, with the frame's normals. */
 class SceneCloud
 {
 public:
-    SceneCloud(const Mat& depth, const Matx33d& K, const ICPParams& p)
-        : depth_(depth), fx_(K(0, 0)), fy_(K(1, 1)), cx_(K(0, 2)), cy_(K(1, 2)), skew_(K(0, 1)),
-          normal_radius_(p.normal_radius), discontinuity_(p.depth_discontinuity)
+    SceneCloud(const Mat& depth, const Matx33d& K, const detail::SceneNormals& normals)
+        : depth_(depth), K_(K), normals_(normals)
     {
-        state_.create(depth.size(), CV_8UC1);
-        state_.setTo(Scalar::all(0));
-        normals_.create(depth.size(), CV_32FC3);
     }
 
     int rows() const { return depth_.rows; }
     int cols() const { return depth_.cols; }
 
-    /** Back-projection of pixel (x, y) with depth z (mm). */
-    Vec3d point(int x, int y, double z) const
-    {
-        const double yn = (y - cy_) / fy_;
-        const double xn = (x - cx_ - skew_ * yn) / fx_;
-        return Vec3d(xn * z, yn * z, z);
-    }
+    Vec3d point(int x, int y, double z) const { return backProject(K_, x, y, z); }
 
     ushort depth(int x, int y) const { return depth_.at<ushort>(y, x); }
 
@@ -135,8 +134,8 @@ public:
     {
         if (q[2] <= 1e-6)
             return false;
-        const double u = fx_ * q[0] / q[2] + skew_ * q[1] / q[2] + cx_;
-        const double v = fy_ * q[1] / q[2] + cy_;
+        const double u = K_(0, 0) * q[0] / q[2] + K_(0, 1) * q[1] / q[2] + K_(0, 2);
+        const double v = K_(1, 1) * q[1] / q[2] + K_(1, 2);
         if (!(u > -0.5 && v > -0.5 && u < depth_.cols - 0.5 && v < depth_.rows - 0.5))
             return false;
         px = Point(cvRound(u), cvRound(v));
@@ -144,63 +143,12 @@ public:
     }
 
     /** Unit normal at pixel (x, y) facing the camera; false when it cannot be estimated. */
-    bool normal(int x, int y, Vec3f& n)
-    {
-        uchar& st = state_.at<uchar>(y, x);
-        if (st == 0)
-            st = computeNormal(x, y, normals_.at<Vec3f>(y, x)) ? 1 : 2;
-        n = normals_.at<Vec3f>(y, x);
-        return st == 1;
-    }
+    bool normal(int x, int y, Vec3f& n) const { return normals_.normal(x, y, n); }
 
 private:
-    bool computeNormal(int x, int y, Vec3f& n) const
-    {
-        const double zc = depth_.at<ushort>(y, x);
-        if (zc <= 0)
-            return false;
-        const int r = normal_radius_;
-        Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-        Eigen::Vector3d m = Eigen::Vector3d::Zero();
-        int cnt = 0;
-        for (int yy = std::max(0, y - r); yy <= std::min(depth_.rows - 1, y + r); ++yy)
-        {
-            const ushort* row = depth_.ptr<ushort>(yy);
-            for (int xx = std::max(0, x - r); xx <= std::min(depth_.cols - 1, x + r); ++xx)
-            {
-                const double z = row[xx];
-                if (z <= 0 || std::abs(z - zc) > discontinuity_)
-                    continue;
-                const Vec3d p = point(xx, yy, z);
-                const Eigen::Vector3d e(p[0], p[1], p[2]);
-                m += e;
-                S += e * e.transpose();
-                ++cnt;
-            }
-        }
-        const int side = 2 * r + 1;
-        if (cnt < std::max(5, side * side / 3))
-            return false;
-        m /= cnt;
-        const Eigen::Matrix3d C = S / cnt - m * m.transpose();
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-        es.computeDirect(C);
-        Eigen::Vector3d e = es.eigenvectors().col(0); // smallest eigenvalue first
-        if (!(e.allFinite()) || e.norm() < 0.5)
-            return false;
-        e.normalize();
-        if (e.dot(m) > 0) // face the camera
-            e = -e;
-        n = Vec3f((float)e[0], (float)e[1], (float)e[2]);
-        return true;
-    }
-
     const Mat& depth_;
-    double fx_, fy_, cx_, cy_, skew_;
-    int normal_radius_;
-    double discontinuity_;
-    Mat state_;   // 0 unknown, 1 normal valid, 2 no normal
-    Mat normals_; // CV_32FC3
+    Matx33d K_;
+    const detail::SceneNormals& normals_;
 };
 
 struct Correspondence
@@ -253,6 +201,88 @@ static double median(std::vector<double>& v)
 
 } // namespace
 
+namespace detail {
+
+SceneNormals::SceneNormals(const Mat& depth, const Matx33d& K, const ICPParams& params)
+    : depth_(depth), K_(K), radius_(params.normal_radius),
+      discontinuity_(params.depth_discontinuity)
+{
+    CV_Assert(depth.type() == CV_16UC1 && !depth.empty());
+    state_.reset(new std::atomic<uchar>[depth.total()]());
+    normals_.reset(new Vec3f[depth.total()]);
+}
+
+bool SceneNormals::madeFor(const Mat& depth, const Matx33d& K, const ICPParams& params) const
+{
+    return depth.data == depth_.data && depth.size() == depth_.size()
+           && depth.step == depth_.step && K == K_ && params.normal_radius == radius_
+           && params.depth_discontinuity == discontinuity_;
+}
+
+bool SceneNormals::normal(int x, int y, Vec3f& n) const
+{
+    const size_t i = (size_t)y * depth_.cols + x;
+    std::atomic<uchar>& st = state_[i];
+    uchar s = st.load(std::memory_order_acquire);
+    if (s == 1 || s == 2)
+    {
+        n = normals_[i];
+        return s == 1;
+    }
+    if (s == 0 && st.compare_exchange_strong(s, 3, std::memory_order_acq_rel))
+    {
+        const bool ok = compute(x, y, n);
+        normals_[i] = n;
+        st.store(ok ? 1 : 2, std::memory_order_release);
+        return ok;
+    }
+    return compute(x, y, n); // in progress in another thread: the same value, not stored
+}
+
+bool SceneNormals::compute(int x, int y, Vec3f& n) const
+{
+    n = Vec3f(0, 0, 0);
+    const double zc = depth_.at<ushort>(y, x);
+    if (zc <= 0)
+        return false;
+    const int r = radius_;
+    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    int cnt = 0;
+    for (int yy = std::max(0, y - r); yy <= std::min(depth_.rows - 1, y + r); ++yy)
+    {
+        const ushort* row = depth_.ptr<ushort>(yy);
+        for (int xx = std::max(0, x - r); xx <= std::min(depth_.cols - 1, x + r); ++xx)
+        {
+            const double z = row[xx];
+            if (z <= 0 || std::abs(z - zc) > discontinuity_)
+                continue;
+            const Vec3d p = backProject(K_, xx, yy, z);
+            const Eigen::Vector3d e(p[0], p[1], p[2]);
+            m += e;
+            S += e * e.transpose();
+            ++cnt;
+        }
+    }
+    const int side = 2 * r + 1;
+    if (cnt < std::max(5, side * side / 3))
+        return false;
+    m /= cnt;
+    const Eigen::Matrix3d C = S / cnt - m * m.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(C);
+    Eigen::Vector3d e = es.eigenvectors().col(0); // smallest eigenvalue first
+    if (!(e.allFinite()) || e.norm() < 0.5)
+        return false;
+    e.normalize();
+    if (e.dot(m) > 0) // face the camera
+        e = -e;
+    n = Vec3f((float)e[0], (float)e[1], (float)e[2]);
+    return true;
+}
+
+} // namespace detail
+
 // The inputs of refineICP checked; returns R0 projected onto the closest rotation (ground-truth
 // rotations of some datasets, LM-O, are orthonormal to a few 1e-3 only).
 static Matx33d checkICPInputs(const std::vector<Point3f>& model_points, const Mat& depth,
@@ -297,7 +327,7 @@ static std::vector<Vec3d> subsample(const std::vector<Point3f>& model_points, in
     return pts;
 }
 
-static void correspondences(SceneCloud& cloud, const std::vector<Vec3d>& pts,
+static void correspondences(const SceneCloud& cloud, const std::vector<Vec3d>& pts,
                             const Matx33d& R, const Vec3d& t, double gate,
                             const ICPParams& params, std::vector<Correspondence>& corr)
 {
@@ -405,13 +435,13 @@ static void finalQuality(const SceneCloud& cloud, const std::vector<Vec3d>& pts,
     res.inlier_rmse = inliers ? std::sqrt(sse / inliers) : 0.0;
 }
 
-ICPResult refineICP(const std::vector<Point3f>& model_points, InputArray scene_depth,
-                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0, const ICPParams& params)
+// refineICP from the rotation checkICPInputs() returned.
+static ICPResult runICP(const std::vector<Point3f>& model_points, const Mat& depth,
+                        const Matx33d& K, Matx33d R, const Vec3d& t0, const ICPParams& params,
+                        const detail::SceneNormals& normals)
 {
-    Mat depth = scene_depth.getMat();
-    Matx33d R = checkICPInputs(model_points, depth, K, R0, params);
     const std::vector<Vec3d> pts = subsample(model_points, params.max_points);
-    SceneCloud cloud(depth, K, params);
+    const SceneCloud cloud(depth, K, normals);
     Vec3d t = t0;
     ICPResult res;
     double gate = params.max_correspondence_distance;
@@ -452,6 +482,28 @@ ICPResult refineICP(const std::vector<Point3f>& model_points, InputArray scene_d
     return res;
 }
 
+ICPResult refineICP(const std::vector<Point3f>& model_points, InputArray scene_depth,
+                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0, const ICPParams& params)
+{
+    Mat depth = scene_depth.getMat();
+    const Matx33d R = checkICPInputs(model_points, depth, K, R0, params);
+    const detail::SceneNormals normals(depth, K, params);
+    return runICP(model_points, depth, K, R, t0, params, normals);
+}
+
+namespace detail {
+
+ICPResult refineICP(const std::vector<Point3f>& model_points, const Mat& scene_depth,
+                    const Matx33d& K, const Matx33d& R0, const Vec3d& t0, const ICPParams& params,
+                    const SceneNormals& normals)
+{
+    const Matx33d R = checkICPInputs(model_points, scene_depth, K, R0, params);
+    CV_Assert(normals.madeFor(scene_depth, K, params));
+    return runICP(model_points, scene_depth, K, R, t0, params, normals);
+}
+
+} // namespace detail
+
 #else
 
 ICPResult refineICP(const std::vector<Point3f>&, InputArray, const Matx33d&, const Matx33d&,
@@ -460,6 +512,29 @@ ICPResult refineICP(const std::vector<Point3f>&, InputArray, const Matx33d&, con
     checkParams(params);
     CV_Error(Error::StsNotImplemented, "refineICP: forestmod was built without Eigen");
 }
+
+namespace detail {
+
+SceneNormals::SceneNormals(const Mat&, const Matx33d&, const ICPParams&)
+    : radius_(0), discontinuity_(0)
+{
+    CV_Error(Error::StsNotImplemented, "SceneNormals: forestmod was built without Eigen");
+}
+
+bool SceneNormals::madeFor(const Mat&, const Matx33d&, const ICPParams&) const { return false; }
+
+bool SceneNormals::normal(int, int, Vec3f&) const { return false; }
+
+bool SceneNormals::compute(int, int, Vec3f&) const { return false; }
+
+ICPResult refineICP(const std::vector<Point3f>&, const Mat&, const Matx33d&, const Matx33d&,
+                    const Vec3d&, const ICPParams& params, const SceneNormals&)
+{
+    checkParams(params);
+    CV_Error(Error::StsNotImplemented, "refineICP: forestmod was built without Eigen");
+}
+
+} // namespace detail
 
 #endif
 

@@ -366,7 +366,7 @@ namespace detail {
 
 ICPResult refinePose(const ObjectDrawer& drawer, InputArray scene_depth, const Matx33d& K,
                      const Matx33d& R0, const Vec3d& t0, const ICPParams& params, int passes,
-                     int step)
+                     int step, const SceneNormals* normals)
 {
     Mat scene = getDepth16(scene_depth, "refinePose", "scene_depth");
     checkDrawing(drawer, scene, "refinePose");
@@ -391,7 +391,8 @@ ICPResult refinePose(const ObjectDrawer& drawer, InputArray scene_depth, const M
             res.converged = false;
             break;
         }
-        res = refineICP(pts, scene, K, res.R, res.t, params);
+        res = normals ? refineICP(pts, scene, K, res.R, res.t, params, *normals)
+                      : forestmod::refineICP(pts, scene, K, res.R, res.t, params);
         iterations += res.iterations;
     }
     res.iterations = iterations;

@@ -195,14 +195,19 @@ void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const Po
                                     const std::vector<size_t>& refine,
                                     std::vector<char>& drop) const
 {
-    // drawn on the CPU (drawMesh, no lock): the hypotheses refine in parallel
+    if (refine.empty())
+        return;
+    // drawn on the CPU (drawMesh, no lock): the hypotheses refine in parallel, on the frame's
+    // normals (each computed once, where the first ICP asks for it)
+    const detail::SceneNormals normals(depth, K, params.icp_params);
     parallel_for_(Range(0, (int)refine.size()), [&](const Range& r) {
         for (int k = r.start; k < r.end; ++k)
         {
             PoseMatch& m = matches[refine[k]];
             double diameter = 0;
             const MeshDrawer drawer = drawerOf(m.class_id, depth.size(), diameter);
-            m.icp = refinePose(drawer, depth, K, m.R, m.t, params.icp_params, params.icp_passes);
+            m.icp = refinePose(drawer, depth, K, m.R, m.t, params.icp_params, params.icp_passes,
+                               1, &normals);
             if (m.icp.fitness > 0)
             {
                 m.R = m.icp.R;

@@ -12,6 +12,9 @@
 #include "opencv2/forestmod/pose.hpp"
 #include "draw_mesh.hpp"
 
+#include <atomic>
+#include <memory>
+
 namespace cv {
 namespace forestmod {
 namespace detail {
@@ -76,11 +79,45 @@ private:
     Ptr<Drawing> drawing_;  // that drawing
 };
 
+/** The scene normals of point-to-plane ICP, made where ICP asks for them and kept for the frame.
+
+A pixel's normal is the direction of least variance of the points within ICPParams::normal_radius
+whose depth lies within depth_discontinuity of the pixel's, facing the camera. Each is computed
+once, at the first normal() call for its pixel, and then read: the refinements of one frame's
+hypotheses share them from any thread (a thread that finds a pixel in progress in another computes
+it too, the same value, without storing it). The depth image is referenced, not copied. */
+class CV_EXPORTS SceneNormals
+{
+public:
+    SceneNormals(const Mat& depth, const Matx33d& K, const ICPParams& params);
+    /** False when the pixel has no normal (no depth, or fewer than a third of its neighbourhood
+    within the discontinuity). */
+    bool normal(int x, int y, Vec3f& n) const;
+    /** Whether these are the normals of `depth` (the same data), `K` and `params`. */
+    bool madeFor(const Mat& depth, const Matx33d& K, const ICPParams& params) const;
+
+private:
+    bool compute(int x, int y, Vec3f& n) const;
+
+    Mat depth_;
+    Matx33d K_;
+    int radius_;
+    double discontinuity_;
+    std::unique_ptr<std::atomic<uchar>[]> state_; // 0 not yet, 1 valid, 2 none, 3 in progress
+    std::unique_ptr<Vec3f[]> normals_;
+};
+
+/** refineICP() against normals made for the same depth image, intrinsics and parameters. */
+CV_EXPORTS ICPResult refineICP(const std::vector<Point3f>& model_points, const Mat& scene_depth,
+                               const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
+                               const ICPParams& params, const SceneNormals& normals);
+
 /** refinePose() (render, back-project, ICP; `passes` times) with the object drawn by
-`drawer`. */
+`drawer`; with `normals` (made for this scene, K and params) its ICP reads them. */
 CV_EXPORTS ICPResult refinePose(const ObjectDrawer& drawer, InputArray scene_depth,
                                 const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
-                                const ICPParams& params, int passes, int step = 1);
+                                const ICPParams& params, int passes, int step = 1,
+                                const SceneNormals* normals = 0);
 
 /** depthCheck() with the object drawn by `drawer`; `drawn` (when given) receives the drawing. */
 CV_EXPORTS double depthCheck(const ObjectDrawer& drawer, InputArray scene_depth, const Matx33d& K,

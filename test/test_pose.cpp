@@ -208,6 +208,88 @@ TEST(Forestmod_Pose, icp_with_the_cpu_drawing_of_the_coarse_mesh)
                  cv::Exception);
 }
 
+// The detector refines a frame's hypotheses in parallel on one set of scene normals
+// (detail::SceneNormals, each normal computed once): the same results, bit for bit, as each ICP
+// computing its own, whatever the order, the threads, and whether the normals are new or kept.
+TEST(Forestmod_Pose, icp_on_the_frames_shared_normals_equals_icp_alone)
+{
+    using namespace cv::forestmod::detail;
+    MeshRenderer mr(apeMesh(), Size(640, 480));
+    const Matx33d K = lmoIntrinsics();
+    RNG rng(31);
+    const Matx33d R_gt = uniformRotation(rng);
+    const Vec3d t_gt(40, -20, 800);
+    const Mat scene = makeScene(mr, R_gt, t_gt, K, Size(640, 480), 0.3, rng);
+    const int n = 12;
+    std::vector<std::vector<Point3f> > pts(n);
+    std::vector<Matx33d> R0(n);
+    std::vector<Vec3d> t0(n);
+    std::vector<ICPResult> alone(n);
+    for (int i = 0; i < n; ++i)
+    {
+        Vec3d dir(rng.gaussian(1), rng.gaussian(1), rng.gaussian(1));
+        R0[i] = randomRotation(rng, (2.0 + i) * CV_PI / 180) * R_gt;
+        t0[i] = t_gt + (3.0 + 2 * i) / cv::norm(dir) * dir;
+        pts[i] = modelPointsFromDepth(mr.depth16(R0[i], t0[i], K), K, R0[i], t0[i]);
+        alone[i] = refineICP(pts[i], scene, K, R0[i], t0[i]);
+    }
+    const ICPParams params;
+    const SceneNormals normals(scene, K, params);
+    const int threads = getNumThreads();
+    setNumThreads(4);
+    for (int round = 0; round < 2; ++round) // new normals, then kept ones
+    {
+        std::vector<ICPResult> shared(n);
+        parallel_for_(Range(0, n), [&](const Range& r) {
+            for (int k = r.start; k < r.end; ++k)
+            {
+                const int i = round ? k : n - 1 - k;
+                shared[i] = refineICP(pts[i], scene, K, R0[i], t0[i], params, normals);
+            }
+        });
+        for (int i = 0; i < n; ++i)
+        {
+            EXPECT_EQ(cvtest::norm(Mat(shared[i].R), Mat(alone[i].R), NORM_INF), 0.0) << i;
+            EXPECT_EQ(cvtest::norm(Mat(shared[i].t), Mat(alone[i].t), NORM_INF), 0.0) << i;
+            EXPECT_EQ(shared[i].fitness, alone[i].fitness) << i;
+            EXPECT_EQ(shared[i].inlier_rmse, alone[i].inlier_rmse) << i;
+            EXPECT_EQ(shared[i].iterations, alone[i].iterations) << i;
+            EXPECT_EQ(shared[i].converged, alone[i].converged) << i;
+        }
+    }
+    setNumThreads(threads);
+    EXPECT_LT(rotationErrorDeg(alone[0].R, R_gt), 1.0); // the trials converge: a real check
+    // a normal read back equals a new one's; none where the scene has no depth
+    const SceneNormals fresh(scene, K, params);
+    int valid = 0;
+    for (int y = 0; y < scene.rows; y += 7)
+        for (int x = 0; x < scene.cols; x += 7)
+        {
+            Vec3f a, b;
+            const bool ok = normals.normal(x, y, a);
+            ASSERT_EQ(ok, fresh.normal(x, y, b));
+            ASSERT_EQ(ok, normals.normal(x, y, b));
+            if (ok)
+            {
+                ASSERT_EQ(a, b);
+            }
+            valid += ok;
+        }
+    EXPECT_GT(valid, 1000);
+    Mat holes = scene.clone();
+    holes(Rect(300, 200, 40, 40)).setTo(0);
+    Vec3f h;
+    EXPECT_FALSE(SceneNormals(holes, K, params).normal(320, 220, h));
+    // normals of another image, camera or parameters are refused
+    ICPParams other = params;
+    other.normal_radius = 4;
+    EXPECT_THROW(refineICP(pts[0], holes, K, R0[0], t0[0], params, normals), cv::Exception);
+    Matx33d K2 = K;
+    K2(0, 0) += 1;
+    EXPECT_THROW(refineICP(pts[0], scene, K2, R0[0], t0[0], params, normals), cv::Exception);
+    EXPECT_THROW(refineICP(pts[0], scene, K, R0[0], t0[0], other, normals), cv::Exception);
+}
+
 TEST(Forestmod_Pose, icp_robust_to_30_percent_occlusion)
 {
     MeshRenderer mr(apeMesh(), Size(640, 480));
