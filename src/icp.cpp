@@ -207,9 +207,10 @@ SceneNormals::SceneNormals(const Mat& depth, const Matx33d& K, const ICPParams& 
     : depth_(depth), K_(K), radius_(params.normal_radius),
       discontinuity_(params.depth_discontinuity)
 {
-    CV_Assert(depth.type() == CV_16UC1 && !depth.empty());
+    CV_CheckType(depth.type(), depth.type() == CV_16UC1 && !depth.empty(),
+                 "SceneNormals: the depth image must be a non-empty CV_16UC1 image (mm)");
     state_.reset(new std::atomic<uchar>[depth.total()]());
-    normals_.reset(new Vec3f[depth.total()]);
+    normals_.create(depth.size(), CV_32FC3); // only read where computed: not filled
 }
 
 bool SceneNormals::madeFor(const Mat& depth, const Matx33d& K, const ICPParams& params) const
@@ -224,15 +225,16 @@ bool SceneNormals::normal(int x, int y, Vec3f& n) const
     const size_t i = (size_t)y * depth_.cols + x;
     std::atomic<uchar>& st = state_[i];
     uchar s = st.load(std::memory_order_acquire);
+    Vec3f& stored = normals_.ptr<Vec3f>()[i];
     if (s == 1 || s == 2)
     {
-        n = normals_[i];
+        n = stored;
         return s == 1;
     }
     if (s == 0 && st.compare_exchange_strong(s, 3, std::memory_order_acq_rel))
     {
         const bool ok = compute(x, y, n);
-        normals_[i] = n;
+        stored = n;
         st.store(ok ? 1 : 2, std::memory_order_release);
         return ok;
     }

@@ -104,7 +104,7 @@ private:
     int radius_;
     double discontinuity_;
     std::unique_ptr<std::atomic<uchar>[]> state_; // 0 not yet, 1 valid, 2 none, 3 in progress
-    std::unique_ptr<Vec3f[]> normals_;
+    mutable Mat normals_; // CV_32FC3, written where state_ says so (not initialised)
 };
 
 /** refineICP() against normals made for the same depth image, intrinsics and parameters. */
