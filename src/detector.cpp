@@ -385,12 +385,20 @@ void Detector::estimatePoses(InputArray depth, const Matx33d& K, std::vector<Pos
                           edge_maps);
 }
 
+void Detector::choosePoses(InputArray depth, const Matx33d& K,
+                           const std::vector<std::vector<PoseMatch> >& locations,
+                           const PoseParams& params, InputArray color,
+                           std::vector<PoseMatch>& detections, EdgeMaps& edge_maps) const
+{
+    impl_->poses.chooseAmong(impl_->store, locations, depth.getMat(), K, params, color.getMat(),
+                             detections, edge_maps);
+}
+
 void Detector::choosePoses(const Matx33d& K, const std::vector<std::vector<PoseMatch> >& locations,
                            const PoseParams& params, InputArray color,
                            std::vector<PoseMatch>& detections, EdgeMaps& edge_maps) const
 {
-    impl_->poses.chooseAmong(impl_->store, locations, K, params, color.getMat(), detections,
-                             edge_maps);
+    choosePoses(noArray(), K, locations, params, color, detections, edge_maps);
 }
 
 void Detector::verify(InputArray color, InputArray depth, const Matx33d& K,
@@ -442,6 +450,7 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
                       const PoseParams& _params, DetectionStats* stats) const
 {
     CV_CheckGE(_params.rgb_hypotheses, 1, "PoseParams: rgb_hypotheses must be >= 1");
+    CV_CheckGE(_params.depth_hypotheses, 1, "PoseParams: depth_hypotheses must be >= 1");
     if (_params.verification.enabled)
         detail::checkVerificationParams(_params.verification);
     // with the verification, its top_k detections per class get a refined pose
@@ -458,9 +467,13 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
         else if (sources[i].type() == CV_8UC3 && color.empty())
             color = sources[i];
     }
+    // each detection's pose is chosen among the matches non-maximum suppression merges into it
     const float iou = impl_->params.nms_iou;
-    const bool choose = depth.empty() && !color.empty() && params.rgb_refine
-        && params.rgb_hypotheses > 1 && iou > 0.f && iou < 1.f;
+    const bool icp = !depth.empty() && params.icp;
+    const bool choose = iou > 0.f && iou < 1.f
+        && (icp ? params.depth_hypotheses > 1
+                : depth.empty() && !color.empty() && params.rgb_refine
+                      && params.rgb_hypotheses > 1);
     if (!choose)
     {
         match(sources, threshold, matches, class_ids, std::vector<Mat>(), stats);
@@ -471,7 +484,6 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
         releaseDrawings(matches);
         return;
     }
-    // without depth: each detection's pose is chosen among the matches it suppresses
     detail::StageClock clock;
     std::vector<Match> all;
     matchFrame(d, sources, threshold, all, class_ids, noArray(), std::vector<Mat>(), stats);
@@ -483,9 +495,9 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
     for (size_t i = 0; i < all.size(); ++i)
         hypotheses.push_back(detail::toPoseMatch(all[i], class_templates, impl_->store));
     EdgeMaps edge_maps;
-    impl_->poses.chooseByEdgeFit(impl_->store, hypotheses, leader, K, params, color, matches,
-                                 edge_maps);
-    if (params.verification.enabled)
+    impl_->poses.chooseBySuppression(impl_->store, hypotheses, leader, depth, K, params, color,
+                                     matches, edge_maps);
+    if (params.verification.enabled && !color.empty())
         verifyDetections(*this, color, depth, K, matches, params, edge_maps, stats);
     releaseDrawings(matches);
 }

@@ -18,7 +18,8 @@ namespace forestmod {
 
 PoseParams::PoseParams()
     : max_per_class(3), icp(true), icp_passes(2), depth_check_tolerance(0.05),
-      min_depth_agreement(0.5), rgb_refine(true), rgb_hypotheses(16), rgb_keep(4)
+      min_depth_agreement(0.5), depth_hypotheses(3), rgb_refine(true), rgb_hypotheses(16),
+      rgb_keep(4)
 {
 }
 
@@ -31,6 +32,7 @@ void PoseParams::read(const FileNode& fn)
         icp_params.read(fn["icp_params"]);
     detail::readField(fn, "depth_check_tolerance", depth_check_tolerance);
     detail::readField(fn, "min_depth_agreement", min_depth_agreement);
+    detail::readField(fn, "depth_hypotheses", depth_hypotheses);
     detail::readField(fn, "rgb_refine", rgb_refine);
     if (!fn["edge_params"].empty())
         edge_params.read(fn["edge_params"]);
@@ -47,7 +49,8 @@ void PoseParams::write(FileStorage& fs) const
     icp_params.write(fs);
     fs << "}";
     fs << "depth_check_tolerance" << depth_check_tolerance << "min_depth_agreement"
-       << min_depth_agreement << "rgb_refine" << (int)rgb_refine;
+       << min_depth_agreement << "depth_hypotheses" << depth_hypotheses << "rgb_refine"
+       << (int)rgb_refine;
     fs << "edge_params" << "{";
     edge_params.write(fs);
     fs << "}";
@@ -101,6 +104,7 @@ static void checkPoseInputs(const Mat& depth, const Matx33d& K, const PoseParams
 {
     CV_CheckGT(params.icp_passes, 0, "PoseParams: icp_passes must be positive");
     CV_CheckGE(params.max_per_class, 0, "PoseParams: max_per_class must be >= 0");
+    CV_CheckGE(params.depth_hypotheses, 1, "PoseParams: depth_hypotheses must be >= 1");
     CV_CheckGE(params.rgb_hypotheses, 1, "PoseParams: rgb_hypotheses must be >= 1");
     CV_CheckGE(params.rgb_keep, 1, "PoseParams: rgb_keep must be >= 1");
     CV_CheckGT(params.depth_check_tolerance, 0.0, "PoseParams: depth_check_tolerance must be > 0");
@@ -190,6 +194,25 @@ MeshDrawer PoseEstimator::drawerOf(const String& class_id, Size size, double& di
     return MeshDrawer(d->mesh, d->winding, size, d->id);
 }
 
+bool PoseEstimator::refineOneWithDepth(const Mat& depth, const Matx33d& K,
+                                       const PoseParams& params,
+                                       const detail::SceneNormals& normals, PoseMatch& m) const
+{
+    double diameter = 0;
+    const MeshDrawer drawer = drawerOf(m.class_id, depth.size(), diameter);
+    m.icp = refinePose(drawer, depth, K, m.R, m.t, params.icp_params, params.icp_passes, 1,
+                       &normals);
+    if (m.icp.fitness > 0)
+    {
+        m.R = m.icp.R;
+        m.t = m.icp.t;
+        m.refined = true;
+    }
+    const double tol = params.depth_check_tolerance * diameter;
+    m.depth_agreement = depthCheck(drawer, depth, K, m.R, m.t, tol, &m.drawing);
+    return m.depth_agreement >= params.min_depth_agreement;
+}
+
 void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
                                     std::vector<PoseMatch>& matches,
                                     const std::vector<size_t>& refine,
@@ -202,23 +225,62 @@ void PoseEstimator::refineWithDepth(const Mat& depth, const Matx33d& K, const Po
     const detail::SceneNormals normals(depth, K, params.icp_params);
     parallel_for_(Range(0, (int)refine.size()), [&](const Range& r) {
         for (int k = r.start; k < r.end; ++k)
+            drop[refine[k]] = !refineOneWithDepth(depth, K, params, normals, matches[refine[k]]);
+    });
+}
+
+void PoseEstimator::chooseWithDepth(const TemplateStore& store,
+                                    const std::vector<std::vector<PoseMatch> >& locations,
+                                    const Mat& depth, const Matx33d& K, const PoseParams& params,
+                                    std::vector<PoseMatch>& detections) const
+{
+    const int n = (int)locations.size();
+    std::vector<int> tries(n, 0); // matches that may be refined, per location
+    std::map<String, int> per_class;
+    for (int g = 0; g < n; ++g)
+    {
+        const String& id = locations[g][0].class_id;
+        if (per_class[id]++ < params.max_per_class && hasMesh(id))
+            tries[g] = std::min((int)locations[g].size(), params.depth_hypotheses);
+    }
+    // the locations in parallel, each one's matches one after the other until one passes
+    const detail::SceneNormals normals(depth, K, params.icp_params);
+    std::vector<PoseMatch> chosen(n);
+    std::vector<char> keep(n, 1);
+    parallel_for_(Range(0, n), [&](const Range& r) {
+        for (int g = r.start; g < r.end; ++g)
         {
-            PoseMatch& m = matches[refine[k]];
-            double diameter = 0;
-            const MeshDrawer drawer = drawerOf(m.class_id, depth.size(), diameter);
-            m.icp = refinePose(drawer, depth, K, m.R, m.t, params.icp_params, params.icp_passes,
-                               1, &normals);
-            if (m.icp.fitness > 0)
+            bool refined = false, passed = false;
+            for (int h = 0; h < tries[g] && !passed; ++h)
             {
-                m.R = m.icp.R;
-                m.t = m.icp.t;
-                m.refined = true;
+                PoseMatch m = locations[g][h];
+                if (!startPose(store, depth, K, m))
+                    continue;
+                refined = true;
+                passed = refineOneWithDepth(depth, K, params, normals, m);
+                if (passed)
+                    chosen[g] = m;
             }
-            const double tol = params.depth_check_tolerance * diameter;
-            m.depth_agreement = depthCheck(drawer, depth, K, m.R, m.t, tol, &m.drawing);
-            drop[refine[k]] = m.depth_agreement < params.min_depth_agreement;
+            if (!refined) // not refined, or no match with a pose: the first as estimate() does
+            {
+                chosen[g] = locations[g][0];
+                startPose(store, depth, K, chosen[g]);
+            }
+            keep[g] = passed || !refined;
         }
     });
+    detections.clear();
+    for (int g = 0; g < n; ++g)
+    {
+        if (!keep[g])
+            continue;
+        PoseMatch m = chosen[g]; // position, box and score stay the location's
+        m.x = locations[g][0].x;
+        m.y = locations[g][0].y;
+        m.similarity = locations[g][0].similarity;
+        m.box = locations[g][0].box;
+        detections.push_back(m);
+    }
 }
 
 // The fits that go on after the first pass: all of them, or with `location` the `keep` best of
@@ -336,11 +398,15 @@ void PoseEstimator::estimate(const TemplateStore& store, const Mat& depth, const
     matches.swap(kept);
 }
 
-void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vector<PoseMatch>& all,
-                                    const std::vector<int>& leader, const Matx33d& K,
-                                    const PoseParams& params, const Mat& color,
-                                    std::vector<PoseMatch>& detections, EdgeMaps& edge_maps)
+void PoseEstimator::chooseBySuppression(const TemplateStore& store,
+                                        const std::vector<PoseMatch>& all,
+                                        const std::vector<int>& leader, const Mat& depth,
+                                        const Matx33d& K, const PoseParams& params,
+                                        const Mat& color, std::vector<PoseMatch>& detections,
+                                        EdgeMaps& edge_maps)
 {
+    const size_t per_location = (size_t)(!depth.empty() && params.icp ? params.depth_hypotheses
+                                                                       : params.rgb_hypotheses);
     // each detection's group: itself, then the matches of its class it suppressed
     std::vector<int> group_of(all.size(), -1);
     std::vector<std::vector<PoseMatch> > groups;
@@ -353,15 +419,15 @@ void PoseEstimator::chooseByEdgeFit(const TemplateStore& store, const std::vecto
             continue;
         }
         std::vector<PoseMatch>& g = groups[group_of[leader[i]]];
-        if (all[i].class_id == g[0].class_id && (int)g.size() < params.rgb_hypotheses)
+        if (all[i].class_id == g[0].class_id && g.size() < per_location)
             g.push_back(all[i]);
     }
-    chooseAmong(store, std::move(groups), K, params, color, detections, edge_maps);
+    chooseAmong(store, std::move(groups), depth, K, params, color, detections, edge_maps);
 }
 
 void PoseEstimator::chooseAmong(const TemplateStore& store,
-                                std::vector<std::vector<PoseMatch> > groups, const Matx33d& K,
-                                const PoseParams& params, const Mat& color,
+                                std::vector<std::vector<PoseMatch> > groups, const Mat& depth,
+                                const Matx33d& K, const PoseParams& params, const Mat& color,
                                 std::vector<PoseMatch>& detections, EdgeMaps& edge_maps)
 {
     std::vector<PoseMatch> flat; // every group's hypotheses, for the input checks
@@ -380,7 +446,12 @@ void PoseEstimator::chooseAmong(const TemplateStore& store,
             flat.push_back(groups[g][h]);
         }
     }
-    checkPoseInputs(Mat(), K, params, color, flat);
+    checkPoseInputs(depth, K, params, color, flat);
+    if (!depth.empty() && params.icp)
+    {
+        chooseWithDepth(store, groups, depth, K, params, detections);
+        return;
+    }
     // the hypotheses of the first max_per_class groups per class, refined together (one set of
     // edge maps, in parallel, the rgb_keep best of each group after the first pass); the other
     // groups keep their first match's template pose

@@ -18,6 +18,8 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
+class SceneNormals; // pose_refine.hpp
+
 /** A match with its template's box and pose label. */
 PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids,
                       const TemplateStore& store);
@@ -48,22 +50,22 @@ public:
                   std::vector<PoseMatch>& matches, const PoseParams& params,
                   const Mat& color, EdgeMaps& edge_maps);
 
-    /** Detector::detect without depth: `all` are the matches before non-maximum suppression
-    (best first) and `leader` its result (nonMaximumSuppression). Each kept detection of the best
-    max_per_class per class takes the pose of the best edge fit among up to rgb_hypotheses
-    matches of its class that it suppressed (itself first); the others their template's pose.
-    edge_maps as for estimate(). */
-    void chooseByEdgeFit(const TemplateStore& store, const std::vector<PoseMatch>& all,
-                         const std::vector<int>& leader, const Matx33d& K,
-                         const PoseParams& params, const Mat& color,
-                         std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);
+    /** Detector::detect: `all` are the matches before non-maximum suppression (best first) and
+    `leader` its result (nonMaximumSuppression). Each kept detection of the best max_per_class
+    per class takes its pose from up to depth_hypotheses (with depth) or rgb_hypotheses (without)
+    matches of its class that it suppressed (itself first), as chooseAmong() chooses; the others
+    their template's pose. edge_maps as for estimate(). */
+    void chooseBySuppression(const TemplateStore& store, const std::vector<PoseMatch>& all,
+                             const std::vector<int>& leader, const Mat& depth, const Matx33d& K,
+                             const PoseParams& params, const Mat& color,
+                             std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);
 
     /** Detector::choosePoses: each location's pose chosen among its matches (`locations[g]`, one
-    class, best first) by edge fit, as chooseByEdgeFit does with the groups of non-maximum
-    suppression. */
+    class, best first). With depth (and params.icp): the first whose ICP pose passes the depth
+    check (chooseWithDepth); without: the best edge fit. */
     void chooseAmong(const TemplateStore& store, std::vector<std::vector<PoseMatch> > locations,
-                     const Matx33d& K, const PoseParams& params, const Mat& color,
-                     std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);
+                     const Mat& depth, const Matx33d& K, const PoseParams& params,
+                     const Mat& color, std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);
 
     /** What the verification and the refinements draw of a class; null without a mesh. The
     pointer stays valid until setMesh() is called again (which must not run concurrently with
@@ -78,6 +80,20 @@ private:
     void refineWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
                          std::vector<PoseMatch>& matches, const std::vector<size_t>& refine,
                          std::vector<char>& drop) const;
+    // ICP from m's pose on the frame's normals and the depth check (m's class has a mesh); true
+    // when m passes it (params.min_depth_agreement)
+    bool refineOneWithDepth(const Mat& depth, const Matx33d& K, const PoseParams& params,
+                            const detail::SceneNormals& normals, PoseMatch& m) const;
+    // LINEMOD ACCV 2012's post-processing per location: of the first params.depth_hypotheses
+    // matches of each of the first params.max_per_class locations per class, refined one after
+    // the other, the first that passes the depth check gives the location's pose (position, box
+    // and score stay its first match's); a location none of whose refined matches passes is
+    // dropped. The locations are refined in parallel on one set of scene normals; the others
+    // keep their first match's initial pose.
+    void chooseWithDepth(const TemplateStore& store,
+                         const std::vector<std::vector<PoseMatch> >& locations, const Mat& depth,
+                         const Matx33d& K, const PoseParams& params,
+                         std::vector<PoseMatch>& detections) const;
     // edge alignment of matches[refine[k]] (classes with a mesh), drawn with drawMesh() in
     // parallel, against one set of edge maps: edge_maps if not empty, else made around them.
     // With `location` (location[k]: the location of refine[k]), only the params.rgb_keep best

@@ -246,6 +246,124 @@ TEST(Forestmod_DetectorPose, choose_poses_keeps_the_best_fits_of_the_first_pass)
     EXPECT_GE(same, n - 1);
 }
 
+// The same matches of `location`, each refined alone by estimatePoses(): the first that passes
+// the depth check, or none (ACCV 2012's post-processing done the long way).
+static bool firstPassing(const cv::forestmod::Detector& det, const Mat& depth,
+                         const std::vector<PoseMatch>& location, const PoseParams& params,
+                         PoseMatch& first)
+{
+    std::vector<PoseMatch> all(location.begin(), location.end());
+    PoseParams every = params;
+    every.max_per_class = (int)all.size();
+    det.estimatePoses(depth, lmoIntrinsics(), all, every);
+    for (size_t i = 0; i < all.size(); ++i)
+        if (all[i].has_pose)
+        {
+            first = all[i];
+            return true;
+        }
+    return false;
+}
+
+// With depth, choosePoses() refines a location's matches one after the other and keeps the
+// first whose ICP pose passes the depth check: the pose of that match refined alone; a location
+// of matches on the background plane is dropped. detect() chooses so among the matches
+// non-maximum suppression merges into a detection.
+TEST(Forestmod_DetectorPose, depth_choose_poses_keeps_the_first_that_passes)
+{
+    const ApeScenes as(getDefaultForestLINEMOD());
+    const Ptr<cv::forestmod::Detector>& det = as.det;
+    RNG rng(23);
+    PoseParams params;
+    params.verification.enabled = false; // the matcher's order
+    int n = 0, later = 0, dropped = 0, detections = 0;
+    for (int k = 0; k < 6; ++k)
+    {
+        const SyntheticScene scene = as.render(rng);
+        std::vector<Mat> src;
+        src.push_back(scene.color);
+        src.push_back(scene.depth);
+        src.push_back(scene.color);
+        std::vector<cv::linemod::Match> matches;
+        det->match(src, 80.f, matches);
+        if (matches.empty())
+            continue;
+        const cv::linemod::Match& m0 = matches[0];
+        // the best match's template first moved onto the background (a third of the frame
+        // away), then at its place; and a location of the background alone
+        cv::linemod::Match away = m0;
+        away.x = (m0.x + 213) % 400;
+        away.y = (m0.y + 160) % 300;
+        std::vector<std::vector<PoseMatch> > locations(2);
+        locations[0].push_back(hypothesisAt(*det, away, m0.template_id));
+        locations[0].push_back(hypothesisAt(*det, m0, m0.template_id));
+        locations[1].push_back(hypothesisAt(*det, away, m0.template_id));
+        std::vector<PoseMatch> chosen;
+        EdgeMaps maps;
+        params.max_per_class = 2;
+        det->choosePoses(scene.depth, lmoIntrinsics(), locations, params, scene.color, chosen,
+                         maps);
+        size_t c = 0;
+        for (size_t g = 0; g < locations.size(); ++g)
+        {
+            PoseMatch first;
+            if (!firstPassing(*det, scene.depth, locations[g], params, first))
+            {
+                ++dropped;
+                continue;
+            }
+            ASSERT_LT(c, chosen.size());
+            const PoseMatch& d = chosen[c++];
+            ASSERT_TRUE(d.has_pose && d.refined);
+            EXPECT_GE(d.depth_agreement, params.min_depth_agreement);
+            EXPECT_EQ(cv::norm(Mat(d.R), Mat(first.R), NORM_INF), 0.0);
+            EXPECT_EQ(cv::norm(Mat(d.t), Mat(first.t), NORM_INF), 0.0);
+            EXPECT_EQ(d.depth_agreement, first.depth_agreement);
+            // position, box and score stay the location's first match's
+            EXPECT_EQ(d.x, locations[g][0].x);
+            EXPECT_EQ(d.y, locations[g][0].y);
+            EXPECT_EQ(d.box, locations[g][0].box);
+            later += first.x != locations[g][0].x || first.y != locations[g][0].y;
+        }
+        EXPECT_EQ(c, chosen.size());
+        // one hypothesis per location: the first location is dropped when its first fails
+        PoseParams one = params;
+        one.depth_hypotheses = 1;
+        std::vector<PoseMatch> single;
+        det->choosePoses(scene.depth, lmoIntrinsics(), locations, one, scene.color, single, maps);
+        EXPECT_LE(single.size(), chosen.size());
+
+        // detect(): a detection kept with its own match alone is kept with the same pose when
+        // the matches it merged may stand in
+        std::vector<PoseMatch> own, merged;
+        params.max_per_class = PoseParams().max_per_class;
+        one.max_per_class = params.max_per_class;
+        det->detect(src, lmoIntrinsics(), 80.f, own, std::vector<String>(), one);
+        det->detect(src, lmoIntrinsics(), 80.f, merged, std::vector<String>(), params);
+        for (size_t i = 0; i < own.size(); ++i)
+        {
+            size_t j = 0;
+            while (j < merged.size() && (merged[j].x != own[i].x || merged[j].y != own[i].y))
+                ++j;
+            ASSERT_LT(j, merged.size()) << "detection " << i << " lost";
+            if (!own[i].refined)
+                continue;
+            EXPECT_EQ(merged[j].template_id, own[i].template_id);
+            EXPECT_EQ(cv::norm(Mat(merged[j].R), Mat(own[i].R), NORM_INF), 0.0);
+            EXPECT_EQ(cv::norm(Mat(merged[j].t), Mat(own[i].t), NORM_INF), 0.0);
+        }
+        detections += (int)own.size();
+        ++n;
+    }
+    ASSERT_GE(n, 5);
+    std::cout << "[ INFO    ] " << n << " scenes: a location's later match chosen " << later
+              << " times, a location dropped " << dropped << " times" << std::endl;
+    // both branches ran: a location's later match chosen, a location dropped
+    EXPECT_GE(later, 1);
+    EXPECT_GE(dropped, 1);
+    EXPECT_GE(detections, n);
+}
+
 TEST(Forestmod_DetectorPose, bad_input_raises)
 {
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
@@ -261,6 +379,9 @@ TEST(Forestmod_DetectorPose, bad_input_raises)
     PoseParams keep0;
     keep0.rgb_keep = 0;
     EXPECT_THROW(det->estimatePoses(noArray(), lmoIntrinsics(), m, keep0), cv::Exception);
+    PoseParams depth0;
+    depth0.depth_hypotheses = 0;
+    EXPECT_THROW(det->estimatePoses(noArray(), lmoIntrinsics(), m, depth0), cv::Exception);
     // choosePoses: an empty location, a location of two classes
     const Mat color(480, 640, CV_8UC3, Scalar::all(0));
     std::vector<PoseMatch> out;

@@ -667,6 +667,7 @@ TEST(Forestmod_Verification, params_read_write)
     p.region_width = 9;
     PoseParams pp;
     pp.verification = p;
+    pp.depth_hypotheses = 5;
     FileStorage fs(".yml", FileStorage::WRITE | FileStorage::MEMORY);
     fs << "pose" << "{";
     pp.write(fs);
@@ -675,6 +676,7 @@ TEST(Forestmod_Verification, params_read_write)
     FileStorage in(text, FileStorage::READ | FileStorage::MEMORY);
     PoseParams qq;
     qq.read(in["pose"]);
+    EXPECT_EQ(qq.depth_hypotheses, 5);
     const VerificationParams& q = qq.verification;
     EXPECT_EQ(q.enabled, p.enabled);
     EXPECT_EQ(q.top_k, p.top_k);

@@ -115,13 +115,12 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
         pp.edge_params.search_angle = 12;
     pp.rgb_hypotheses = ctx.rgb_hypotheses;
     pp.rgb_keep = ctx.rgb_keep;
-    // RGB-D: a location's first max_per_class matches go through ICP and the depth check, the
-    // first one left is its hypothesis (LINEMOD ACCV 2012's post-processing). RGB: refined, the
-    // pose is chosen among the matches of the class overlapping the location's first (as
-    // Detector::detect() does with PoseParams::rgb_hypotheses; both detectors' matches come here
-    // before any NMS)
-    const bool choose = !use_depth && ctx.rgb_refine;
-    const size_t keep = use_depth ? (size_t)pp.max_per_class
+    // the pose of a location is chosen among the matches of the class overlapping its first, as
+    // Detector::detect() chooses it (both detectors' matches come here before any NMS). RGB-D:
+    // the first of PoseParams::depth_hypotheses whose ICP pose passes the depth check (LINEMOD
+    // ACCV 2012's post-processing); RGB, refined: the best edge fit of rgb_hypotheses
+    const bool choose = use_depth || ctx.rgb_refine;
+    const size_t keep = use_depth ? (size_t)pp.depth_hypotheses
                                   : choose ? (size_t)pp.rgb_hypotheses : 1;
     const size_t K = (size_t)std::max(1, ctx.verify.top_k);
     std::vector<std::vector<fm::PoseMatch> > groups;
@@ -150,7 +149,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     // one set of edge maps for the frame, around every group (as detect() makes them around its
     // refined matches), read by the refinement and the verification
     fm::EdgeMaps edge_maps;
-    if (choose && !groups.empty())
+    if (choose && !use_depth && !groups.empty())
     {
         const int margin = cvCeil(3 * pp.edge_params.max_distance);
         cv::Rect roi;
@@ -168,7 +167,8 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
         // every location refined, its pose chosen as Detector::detect() chooses it
         pp.max_per_class = (int)groups.size();
         std::vector<fm::PoseMatch> chosen;
-        posedet.choosePoses(f.K, groups, pp, f.rgb, chosen, edge_maps);
+        posedet.choosePoses(use_depth ? f.depth : cv::Mat(), f.K, groups, pp, f.rgb, chosen,
+                            edge_maps);
         for (size_t g = 0; g < chosen.size(); ++g)
             if (chosen[g].has_pose)
                 top.push_back(chosen[g]);
@@ -176,15 +176,9 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     for (size_t g = 0; g < groups.size() && !choose; ++g)
     {
         std::vector<fm::PoseMatch>& hyp = groups[g];
-        posedet.estimatePoses(use_depth ? f.depth : cv::Mat(), f.K, hyp, pp, cv::Mat(),
-                              edge_maps);
-        for (size_t i = 0; i < hyp.size(); ++i)
-            if (hyp[i].has_pose) // the first left (RGB-D: after the depth check)
-            {
-                top.push_back(hyp[i]);
-                top.back().similarity = hyp[0].similarity; // the location's rank stays
-                break;
-            }
+        posedet.estimatePoses(cv::Mat(), f.K, hyp, pp, cv::Mat(), edge_maps);
+        if (hyp[0].has_pose) // the template's pose
+            top.push_back(hyp[0]);
     }
     res.pose.push_back((cv::getTickCount() - t_pose) * 1000.0 / cv::getTickFrequency());
     const double nan = std::numeric_limits<double>::quiet_NaN();

@@ -217,9 +217,10 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
                "@%d any of its first %d (locations of the object's matches, grouped at box IoU > "
                "0.5). *verified*: the same hypotheses re-ranked by Detector::verify(); T_verify "
                "(verification alone, up to %d hypotheses per object and frame): median %s ms, "
-               "max %s ms. T_pose (forestmod's hypotheses' poses: with depth ICP of each "
-               "location's matches, Detector::estimatePoses; without it Detector::choosePoses, the "
-               "first %d refined by edge alignment, %d of them past the first pass): median %s "
+               "max %s ms. T_pose (forestmod's hypotheses' poses, Detector::choosePoses: with depth "
+               "the first of each location's matches whose ICP pose passes the depth check; "
+               "without it the first %d refined by edge alignment, %d of them past the first "
+               "pass): median %s "
                "ms, max %s ms.\n", opt.verify_k, opt.verify_k, opt.verify_k,
                num(median(tv)).c_str(), num(quantile(tv, 1)).c_str(), opt.rgb_hypotheses,
                opt.rgb_keep,

@@ -233,6 +233,12 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
     /** Refined hypotheses whose depth check is below this are dropped (ACCV 2012's post-
     processing); 0 keeps them all. Default 0.5. */
     CV_PROP_RW double min_depth_agreement;
+    /** With depth, detect() and choosePoses(): a detection's pose is the first of up to this many
+    of its matches (itself, then those non-maximum suppression merged into it, best first) whose
+    ICP pose passes the depth check; each is refined only when the one before failed (LINEMOD
+    ACCV 2012's post-processing). A detection none of whose passes is dropped. 1 = its own
+    match only. Default 3. */
+    CV_PROP_RW int depth_hypotheses;
     /** Without depth, given the colour image: refine the template's pose by aligning the
     object's rendered edges with the scene's edges (refinePoseEdges(), directional chamfer,
     Levenberg-Marquardt over the 6 DoF), for the best max_per_class matches of classes with a
@@ -413,26 +419,38 @@ public:
     void estimatePoses(InputArray depth, const Matx33d& K, std::vector<PoseMatch>& matches,
                        const PoseParams& params, InputArray color, EdgeMaps& edge_maps) const;
 
-    /** @brief Without depth: the pose of each location, chosen among several matches at it as
-    detect() chooses it.
+    /** @brief The pose of each location, chosen among several matches at it as detect() chooses
+    it.
 
     locations[i] holds matches of one class at one location, best first: those that non-maximum
     suppression merges into one detection (detect()), or another matcher's matches grouped by
     box overlap (forestmod_eval groups cv::linemod's so). Each needs its template's pose label
-    and box (PoseMatch(match) with getTemplatePose() and the template's size). For the first
-    params.max_per_class locations of each class whose class has a mesh, the first
-    params.rgb_hypotheses matches are refined by edge alignment from their template's pose
-    (refinePoseEdges()); after the first pass only the params.rgb_keep best edge fits of the
-    location go on. The best final fit gives detections[i] its template_id, pose label, pose,
-    edge_fit and drawing; position, box and similarity stay those of locations[i][0]. The other
-    locations keep their first match's template pose.
+    and box (PoseMatch(match) with getTemplatePose() and the template's size). Only the first
+    params.max_per_class locations of each class whose class has a mesh are refined; the others
+    keep their first match's initial pose.
+    With depth (and params.icp): of a location's first params.depth_hypotheses matches, refined
+    by ICP one after the other, the first that passes the depth check gives the pose; a location
+    none of whose refined matches passes is left out of `detections`.
+    Without depth: the first params.rgb_hypotheses matches are refined by edge alignment from
+    their template's pose (refinePoseEdges()); after the first pass only the params.rgb_keep best
+    edge fits of the location go on, and the best final fit gives the pose.
+    The chosen match gives the detection its template_id, pose label, pose, edge_fit or
+    icp/depth_agreement, and drawing; position, box and similarity stay those of the location's
+    first match.
+    @param depth  CV_16UC1 scene depth in mm, or empty for RGB only.
     @param K      intrinsics of the scene image.
     @param locations matches grouped by location (none empty, one class each).
     @param params see PoseParams.
-    @param color  the scene's BGR image.
-    @param detections one per location, in their order.
+    @param color  the scene's BGR image (needed without depth).
+    @param detections one per location kept, in their order.
     @param edge_maps as for estimatePoses().
     */
+    void choosePoses(InputArray depth, const Matx33d& K,
+                     const std::vector<std::vector<PoseMatch> >& locations,
+                     const PoseParams& params, InputArray color,
+                     std::vector<PoseMatch>& detections, EdgeMaps& edge_maps) const;
+
+    /** @overload Without depth. */
     void choosePoses(const Matx33d& K, const std::vector<std::vector<PoseMatch> >& locations,
                      const PoseParams& params, InputArray color,
                      std::vector<PoseMatch>& detections, EdgeMaps& edge_maps) const;
