@@ -485,10 +485,12 @@ public:
                 std::vector<PoseMatch>& matches, const VerificationParams& params,
                 DetectionStats* stats, const EdgeMaps& edge_maps) const;
 
-    /** match() + estimatePoses() in one call: sources as for match(); the depth is taken from the
-    DepthNormal source when the detector has one. Without depth, each of the best
-    params.max_per_class detections per class takes its pose from the best edge fit among the
-    matches that non-maximum suppression merges into it (PoseParams::rgb_hypotheses). With
+    /** match() and the poses in one call: sources as for match(); the depth is taken from the
+    DepthNormal source when the detector has one. Each of the best params.max_per_class
+    detections per class takes its pose from the matches that non-maximum suppression merges into
+    it (choosePoses()): with depth the first of them whose ICP pose passes the depth check
+    (PoseParams::depth_hypotheses; a detection none of whose passes is dropped), without depth
+    the best edge fit (PoseParams::rgb_hypotheses). With
     params.verification.enabled (the default) the detections are then verified and re-ranked
     (verify()): the returned order is the verification's. */
     void detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
