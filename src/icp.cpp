@@ -23,7 +23,7 @@ ICPParams::ICPParams()
     : max_iterations(30), max_correspondence_distance(30.0), min_correspondence_distance(5.0),
       gate_sigma_factor(3.0), tukey_c(4.685), tukey_c_coarse(2.5), search_radius(0), normal_radius(3),
       depth_discontinuity(15.0), rotation_epsilon(1e-4), translation_epsilon(0.01),
-      max_points(4000), min_correspondences(20), inlier_distance(5.0),
+      max_points(4000), early_pass_points(1000), min_correspondences(20), inlier_distance(5.0),
       max_rotation_step(0.02), min_ray_cosine(0.5)
 {
 }
@@ -42,6 +42,7 @@ void ICPParams::read(const FileNode& fn)
     detail::readField(fn, "rotation_epsilon", rotation_epsilon);
     detail::readField(fn, "translation_epsilon", translation_epsilon);
     detail::readField(fn, "max_points", max_points);
+    detail::readField(fn, "early_pass_points", early_pass_points);
     detail::readField(fn, "min_correspondences", min_correspondences);
     detail::readField(fn, "inlier_distance", inlier_distance);
     detail::readField(fn, "max_rotation_step", max_rotation_step);
@@ -62,6 +63,7 @@ void ICPParams::write(FileStorage& fs) const
     fs << "rotation_epsilon" << rotation_epsilon;
     fs << "translation_epsilon" << translation_epsilon;
     fs << "max_points" << max_points;
+    fs << "early_pass_points" << early_pass_points;
     fs << "min_correspondences" << min_correspondences;
     fs << "inlier_distance" << inlier_distance;
     fs << "max_rotation_step" << max_rotation_step;

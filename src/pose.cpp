@@ -391,8 +391,13 @@ ICPResult refinePose(const ObjectDrawer& drawer, InputArray scene_depth, const M
             res.converged = false;
             break;
         }
-        res = normals ? refineICP(pts, scene, K, res.R, res.t, params, *normals)
-                      : forestmod::refineICP(pts, scene, K, res.R, res.t, params);
+        // the passes that bring the pose near need fewer points than the last one
+        ICPParams pass_params = params;
+        if (pass + 1 < passes && params.early_pass_points > 0
+            && (params.max_points <= 0 || params.early_pass_points < params.max_points))
+            pass_params.max_points = params.early_pass_points;
+        res = normals ? refineICP(pts, scene, K, res.R, res.t, pass_params, *normals)
+                      : forestmod::refineICP(pts, scene, K, res.R, res.t, pass_params);
         iterations += res.iterations;
     }
     res.iterations = iterations;

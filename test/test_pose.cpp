@@ -100,6 +100,15 @@ struct IcpTrial
     ICPResult res;
 };
 
+/** The ICP parameters of refinePose's passes before the last. */
+static ICPParams earlyPassParams(const ICPParams& params)
+{
+    ICPParams p = params;
+    if (p.early_pass_points > 0 && (p.max_points <= 0 || p.early_pass_points < p.max_points))
+        p.max_points = p.early_pass_points;
+    return p;
+}
+
 /** One random trial: random pose, scene depth rendered from the mesh with sensor-like noise in
 front of a table (and an occluder), start 5 degrees and 10 mm off. ICP as a detector runs it
 (refinePose): the model points are the visible surface rendered at the starting pose; a second
@@ -120,12 +129,14 @@ static IcpTrial runIcpTrial(MeshRenderer& mr, RNG& rng, double occluded,
     const Matx33d R0 = randomRotation(rng, 5.0 * CV_PI / 180) * R_gt;
     const Vec3d t0 = t_gt + 10.0 * dir;
 
-    // refinePose(passes = 2) is these two single passes; run them apart to report both
-    // (with `drawer`: the object drawn by it instead of mr's renderer)
+    // refinePose(passes = 2) is these two single passes, the first with early_pass_points
+    // (icp_early_passes_use_early_pass_points); run them apart to report both (with `drawer`:
+    // the object drawn by it instead of mr's renderer)
     const cv::forestmod::detail::RendererDrawer renderer(*mr.renderer, mr.handle);
     const cv::forestmod::detail::ObjectDrawer& draw = drawer ? *drawer : renderer;
     IcpTrial tr;
-    ICPResult first = cv::forestmod::detail::refinePose(draw, scene, K, R0, t0, params, 1);
+    ICPResult first = cv::forestmod::detail::refinePose(draw, scene, K, R0, t0,
+                                                        earlyPassParams(params), 1);
     tr.rot_err_deg_1 = rotationErrorDeg(first.R, R_gt);
     tr.trans_err_mm_1 = cv::norm(first.t - t_gt);
     tr.res = cv::forestmod::detail::refinePose(draw, scene, K, first.R, first.t, params, 1);
@@ -169,6 +180,55 @@ TEST(Forestmod_Pose, icp_converges_on_rendered_ape_with_sensor_noise)
               << medianOf(trans) << " mm (first pass alone: " << good_1 << "/" << trials << ")"
               << std::endl;
     EXPECT_GE(good, (int)std::ceil(0.95 * trials));
+}
+
+// refinePose's passes before the last use early_pass_points model points, the last max_points:
+// bit for bit the chain of single passes, and not the same as every pass with max_points.
+TEST(Forestmod_Pose, icp_early_passes_use_early_pass_points)
+{
+    MeshRenderer mr(apeMesh(), Size(640, 480));
+    RNG rng(20261125);
+    const Matx33d K = lmoIntrinsics();
+    const cv::forestmod::detail::RendererDrawer draw(*mr.renderer, mr.handle);
+    int differs = 0;
+    for (int i = 0; i < 4; ++i)
+    {
+        const Vec3d t_gt(rng.uniform(-60.0, 60.0), rng.uniform(-40.0, 40.0), 600.0);
+        const Matx33d R_gt = uniformRotation(rng);
+        const Mat scene = makeScene(mr, R_gt, t_gt, K, Size(640, 480), 0.0, rng);
+        const Matx33d R0 = randomRotation(rng, 5.0 * CV_PI / 180) * R_gt;
+        const Vec3d t0 = t_gt + Vec3d(6, -5, 5);
+        ICPParams p;
+        p.early_pass_points = 300 + 200 * i;
+        const ICPResult both = cv::forestmod::detail::refinePose(draw, scene, K, R0, t0, p, 2);
+        const ICPResult a = cv::forestmod::detail::refinePose(draw, scene, K, R0, t0,
+                                                              earlyPassParams(p), 1);
+        ICPParams one = p;
+        one.early_pass_points = 0;
+        const ICPResult b = cv::forestmod::detail::refinePose(draw, scene, K, a.R, a.t, one, 1);
+        EXPECT_EQ(cvtest::norm(Mat(both.R), Mat(b.R), NORM_INF), 0.0) << i;
+        EXPECT_EQ(cvtest::norm(Mat(both.t), Mat(b.t), NORM_INF), 0.0) << i;
+        EXPECT_EQ(both.iterations, a.iterations + b.iterations) << i;
+        // the same two passes with max_points in both end elsewhere
+        const ICPResult full = cv::forestmod::detail::refinePose(draw, scene, K, R0, t0, one, 2);
+        differs += cvtest::norm(Mat(both.t), Mat(full.t), NORM_INF) > 0;
+        // a 3 mm slack of the rendered scenes' start: the pose is found either way
+        EXPECT_LT(cv::norm(both.t - t_gt), 3.0) << i;
+    }
+    EXPECT_GT(differs, 0);
+    // without a second pass early_pass_points changes nothing
+    ICPParams p;
+    p.early_pass_points = 50;
+    RNG rng2(7);
+    const Matx33d R_gt = uniformRotation(rng2);
+    const Mat scene = makeScene(mr, R_gt, Vec3d(0, 0, 700), K, Size(640, 480), 0.0, rng2);
+    ICPParams q = p;
+    q.early_pass_points = 0;
+    const ICPResult r1 = cv::forestmod::detail::refinePose(draw, scene, K, R_gt, Vec3d(5, 0, 700),
+                                                           p, 1);
+    const ICPResult r2 = cv::forestmod::detail::refinePose(draw, scene, K, R_gt, Vec3d(5, 0, 700),
+                                                           q, 1);
+    EXPECT_EQ(cvtest::norm(Mat(r1.t), Mat(r2.t), NORM_INF), 0.0);
 }
 
 // The detector's ICP draws the coarse mesh on the CPU (coarseMesh, drawMesh: no lock, the
@@ -663,6 +723,7 @@ TEST(Forestmod_Pose, icp_params_roundtrip_and_validation)
     p.max_correspondence_distance = 42.5;
     p.tukey_c_coarse = 2.0;
     p.max_points = 123;
+    p.early_pass_points = 45;
     p.min_ray_cosine = 0.25;
     FileStorage fs("icp.yml", FileStorage::WRITE | FileStorage::MEMORY);
     fs << "icp" << "{";
@@ -676,6 +737,7 @@ TEST(Forestmod_Pose, icp_params_roundtrip_and_validation)
     EXPECT_EQ(q.max_correspondence_distance, 42.5);
     EXPECT_EQ(q.tukey_c_coarse, 2.0);
     EXPECT_EQ(q.max_points, 123);
+    EXPECT_EQ(q.early_pass_points, 45);
     EXPECT_EQ(q.min_ray_cosine, 0.25);
     EXPECT_EQ(q.normal_radius, ICPParams().normal_radius);
 
