@@ -80,7 +80,7 @@ struct CV_EXPORTS_W_SIMPLE ICPParams
     /** refinePose(): at most this many model points in every pass but the last (those bring the
     pose near; the last pass, with max_points, sets the precision); <= 0 = max_points. Default
     1000: on rendered RGB-D scenes the same ADD to 0.1 % of a diameter, and the poses of a frame
-    7-40 % faster (doc/pose.md, "Points of the first pass"). refineICP() ignores it. */
+    6-40 % faster (doc/pose.md, "Points of the first pass"). refineICP() ignores it. */
     CV_PROP_RW int early_pass_points;
     /** At least this many correspondences are needed for an update. Default 20. */
     CV_PROP_RW int min_correspondences;
