@@ -11,10 +11,8 @@
 #include "pose_refine.hpp"
 #include "opencv2/calib3d.hpp"
 
-#ifdef HAVE_FORESTMOD_EIGEN
 #include <Eigen/Core>
 #include <Eigen/Dense>
-#endif
 
 namespace cv {
 namespace forestmod {
@@ -103,8 +101,6 @@ static void checkParams(const ICPParams& p)
     CV_Check(p.min_ray_cosine, p.min_ray_cosine > 0 && p.min_ray_cosine <= 1,
              "refineICP: min_ray_cosine must be in (0, 1]");
 }
-
-#ifdef HAVE_FORESTMOD_EIGEN
 
 namespace {
 
@@ -507,40 +503,6 @@ ICPResult refineICP(const std::vector<Point3f>& model_points, const Mat& scene_d
 }
 
 } // namespace detail
-
-#else
-
-ICPResult refineICP(const std::vector<Point3f>&, InputArray, const Matx33d&, const Matx33d&,
-                    const Vec3d&, const ICPParams& params)
-{
-    checkParams(params);
-    CV_Error(Error::StsNotImplemented, "refineICP: forestmod was built without Eigen");
-}
-
-namespace detail {
-
-SceneNormals::SceneNormals(const Mat&, const Matx33d&, const ICPParams&)
-    : radius_(0), discontinuity_(0)
-{
-    CV_Error(Error::StsNotImplemented, "SceneNormals: forestmod was built without Eigen");
-}
-
-bool SceneNormals::madeFor(const Mat&, const Matx33d&, const ICPParams&) const { return false; }
-
-bool SceneNormals::normal(int, int, Vec3f&) const { return false; }
-
-bool SceneNormals::compute(int, int, Vec3f&) const { return false; }
-
-ICPResult refineICP(const std::vector<Point3f>&, const Mat&, const Matx33d&, const Matx33d&,
-                    const Vec3d&, const ICPParams& params, const SceneNormals&)
-{
-    checkParams(params);
-    CV_Error(Error::StsNotImplemented, "refineICP: forestmod was built without Eigen");
-}
-
-} // namespace detail
-
-#endif
 
 } // namespace forestmod
 } // namespace cv
