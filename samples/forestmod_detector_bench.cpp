@@ -61,7 +61,7 @@ static const char* keys
       "{step           | -1      | location_step (0: T / 2) }"
       "{min_labels     | -1      | min_window_labels }"
       "{dominant       | -1      | dominant_window }"
-      "{depth_margin   | -1      | depth_range_margin (mm, 0: off) }"
+      "{depth_tol      | -2      | depth_range_tolerance (-1: off, -2: the default) }"
       "{gratio         | -1      | group_size_ratio (0: no size limit) }"
       "{leaf_samples   | -1      | auto_depth_leaf_samples (0: the paper's depth) }"
       "{k              | -1      | max_survivors }"
@@ -153,7 +153,8 @@ int main(int argc, char** argv)
     BENCH_SET("step", location_step, int)
     BENCH_SET("min_labels", min_window_labels, float)
     BENCH_SET("dominant", dominant_window, int)
-    BENCH_SET("depth_margin", depth_range_margin, int)
+    if (parser.get<double>("depth_tol") > -2)
+        p.depth_range_tolerance = (float)parser.get<double>("depth_tol");
     BENCH_SET("gratio", group_size_ratio, float)
     BENCH_SET("leaf_samples", auto_depth_leaf_samples, float)
     BENCH_SET("k", max_survivors, int)
@@ -234,12 +235,14 @@ int main(int argc, char** argv)
         pe.use_forest = false;
 
         std::printf("params: trees %d depth %d xi %.2f rdims %d rcov %.2f rnoise %.3f tau %.2f "
-                    "any %d grid %d step %d min_labels %.2f dominant %d depth_margin %d k %d chunk %d "
+                    "any %d grid %d step %d min_labels %.2f dominant %d depth_tol %.2f k %d "
+                    "chunk %d "
                     "depth_samples %d\n",
                     p.forest.num_trees, p.forest.max_depth, p.forest.fuzzy_margin,
                     p.forest.rejector_dims, p.forest.rejector_coverage, p.forest.rejector_noise,
                     p.forest.rejector_tau, (int)p.forest.reject_any_tree, p.grid_size,
-                    p.location_step, p.min_window_labels, p.dominant_window, p.depth_range_margin,
+                    p.location_step, p.min_window_labels, p.dominant_window,
+                    p.depth_range_tolerance,
                     p.max_survivors, p.chunk_size, p.depth_samples);
 
         const int groups = together ? 1 : (int)meshes.size();

@@ -279,6 +279,8 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
                              (d.impl.index.max_extent >> L) + 2 * d.T[L] + 2, scene);
         if (!scene.depth.empty() && params.depth_samples > 0)
             detail::depthContexts(scene.depth, d.T, params.depth_tolerance, scene);
+        if (!scene.depth.empty() && params.depth_range_tolerance >= 0)
+            scene.depth_cells.set(scene.depth, d.T[L] << L);
     }
     double t_quant = clock.lap();
     double t_tree = 0;

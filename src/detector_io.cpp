@@ -25,7 +25,8 @@ static const int MODEL_FORMAT_VERSION = 1;
 DetectorParams::DetectorParams()
     : grid_size(12), dominant_window(3), group_size_ratio(1.3f), group_templates(true),
       auto_depth_leaf_samples(8.f), use_forest(true), location_step(0), min_window_labels(0.5f),
-      depth_range_margin(0), breadth_first(true), chunk_size(16), alpha(0.5f), max_survivors(1),
+      depth_range_tolerance(0.25f), breadth_first(true), chunk_size(16), alpha(0.5f),
+      max_survivors(1),
       exhaustive_ratio(0.01f),
       depth_samples(63), depth_tolerance(5), nms_iou(0.5f)
 {
@@ -50,7 +51,16 @@ void DetectorParams::read(const FileNode& fn)
     detail::readField(fn, "depth_samples", depth_samples);
     detail::readField(fn, "depth_tolerance", depth_tolerance);
     detail::readField(fn, "min_window_labels", min_window_labels);
-    detail::readField(fn, "depth_range_margin", depth_range_margin);
+    // files written before depth_range_tolerance had depth_range_margin (mm, 0: off, the
+    // default): they keep matching as they did when it was off
+    int margin = 0;
+    if (fn["depth_range_tolerance"].empty() && !fn["depth_range_margin"].empty())
+    {
+        detail::readField(fn, "depth_range_margin", margin);
+        if (margin == 0)
+            depth_range_tolerance = -1.f;
+    }
+    detail::readField(fn, "depth_range_tolerance", depth_range_tolerance);
     detail::readField(fn, "dominant_window", dominant_window);
     detail::readField(fn, "group_size_ratio", group_size_ratio);
     detail::readField(fn, "auto_depth_leaf_samples", auto_depth_leaf_samples);
@@ -68,7 +78,7 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "max_survivors" << max_survivors << "depth_samples" << depth_samples;
     fs << "exhaustive_ratio" << exhaustive_ratio;
     fs << "depth_tolerance" << depth_tolerance << "min_window_labels" << min_window_labels;
-    fs << "depth_range_margin" << depth_range_margin << "dominant_window" << dominant_window;
+    fs << "depth_range_tolerance" << depth_range_tolerance << "dominant_window" << dominant_window;
     fs << "group_size_ratio" << group_size_ratio;
     fs << "auto_depth_leaf_samples" << auto_depth_leaf_samples;
     fs << "group_templates" << (int)group_templates;

@@ -16,24 +16,29 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-// The raw scores of a template given by its coarsest-level features `f` (CoarseRuns) at every
-// position of the T grid where its box of `cells` fits.
+// The raw scores of a template given by its coarsest-level features `f` (CoarseRuns) at the
+// positions of the T grid where its box of `cells` fits, in the rows r0 .. r1 of positions
+// (all of them when r1 < 0): scores[(r - r0) * stride + c].
 static bool scoreRuns(const LinearMemories& lm, const CoarseFeature* f, int n_f, Size cells,
-                      int& span_x, int& span_y, std::vector<ushort>& scores)
+                      int& span_x, int& span_y, std::vector<ushort>& scores, int r0 = 0,
+                      int r1 = -1)
 {
     span_x = lm.cells_x - cells.width;
     span_y = lm.cells_y - cells.height;
     if (span_x < 0 || span_y < 0)
         return false;
+    if (r1 < 0)
+        r1 = span_y;
+    CV_DbgAssert(0 <= r0 && r0 <= r1 && r1 <= span_y);
     // every feature's run of the memories (cx <= cells.width <= cells_x: no overflow)
     static thread_local std::vector<int> runs;
     runs.resize(n_f);
     const int plane = lm.stride * lm.rows;
     for (int k = 0; k < n_f; ++k)
-        runs[k] = f[k].memory * plane + f[k].cy * lm.stride + f[k].cx;
+        runs[k] = f[k].memory * plane + (f[k].cy + r0) * lm.stride + f[k].cx;
     // positions r * stride + c, the row ends included (they wrap: scored, never reported); the
     // kernel writes whole vectors
-    const int n = span_y * lm.stride + span_x + 1;
+    const int n = (r1 - r0) * lm.stride + span_x + 1;
     scores.resize(n + LinearMemories::kSlack);
     sumRuns16(&scores[0], &lm.data[0], runs.empty() ? 0 : &runs[0], n_f, n);
     scores.resize(n);
@@ -89,12 +94,30 @@ static inline ushort entryBar(const Scored& last)
     return static_cast<ushort>(std::min<int64>(q, 65535));
 }
 
-// The templates rows[i0 .. i1) at every position: each position's best K in `best` (lists of
+// The rows of positions r0 .. r1 of a template whose depth span `z` (widened) the scene depth
+// may reach around its centre (the centre `centre` cells from the position's cell); false when
+// no row does. Every row without a depth test.
+static bool rowsInDepthRange(const DepthCells* cells, const DepthSpan& z, Point centre,
+                             int span_y, int& r0, int& r1)
+{
+    r0 = 0;
+    r1 = span_y;
+    if (!cells || z.empty())
+        return true;
+    while (r0 <= span_y && !cells->rowReaches(r0 + centre.y, z))
+        ++r0;
+    while (r1 >= r0 && !cells->rowReaches(r1 + centre.y, z))
+        --r1;
+    return r0 <= r1;
+}
+
+// The templates rows[i0 .. i1) at every position (with a depth test, at the positions where the
+// scene depth reaches into their widened depth span): each position's best K in `best` (lists of
 // the T grid's cells, row-major), its entry bar in `bar` (the scores' layout r * stride + c).
 static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& lm,
                             const SearchIndex& index, const ClassPyramids& pyramids,
                             const std::vector<int>& rows, int i0, int i1, float threshold, int K,
-                            Scored* best, ushort* bar)
+                            const DepthCells* cells, float tolerance, Scored* best, ushort* bar)
 {
     const int M = top.modalities(), T = top.T;
     const CoarseRuns& coarse = index.coarse;
@@ -102,9 +125,11 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
     std::vector<int> hits;
     for (int i = i0; i < i1; ++i)
     {
-        int span_x = 0, span_y = 0;
+        int span_x = 0, span_y = 0, r0 = 0, r1 = 0;
         Scored sc;
         sc.total = coarse.total[rows[i]];
+        const DepthSpan z = cells ? widenedSpan(index.depth[rows[i]], tolerance) : DepthSpan();
+        const Point centre = coarse.centre[rows[i]];
         if (sc.total > kMaxSum16) // beyond 16-bit sums (hostile model files only)
         {
             const TemplateRef& ref = index.rows[rows[i]];
@@ -114,6 +139,7 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
             span_y = lm.cells_y - ((t0.height - 1) / T + 1);
             if (span_x < 0 || span_y < 0)
                 continue;
+            r1 = span_y;
             scores.assign((size_t)(span_y + 1) * lm.stride, 0);
             for (int r = 0; r <= span_y; ++r)
                 for (int c = 0; c <= span_x; ++c)
@@ -122,30 +148,34 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
         }
         else
         {
+            const Size box = coarse.cells[rows[i]];
+            if (!rowsInDepthRange(cells, z, centre, lm.cells_y - box.height, r0, r1))
+                continue;
             const int b = coarse.begin[rows[i]], e = coarse.begin[rows[i] + 1];
-            if (!scoreRuns(lm, b < e ? &coarse.features[b] : 0, e - b, coarse.cells[rows[i]],
-                           span_x, span_y, scores))
+            if (!scoreRuns(lm, b < e ? &coarse.features[b] : 0, e - b, box, span_x, span_y,
+                           scores, r0, r1))
                 continue;
         }
         sc.row = rows[i];
         const int raw_thr = rawThreshold(threshold, sc.total);
         if (raw_thr >= 65535)
             continue;
-        // one scan over the positions r * stride + c; the row ends (c > span_x) wrap
-        const int n_pos = span_y * lm.stride + span_x + 1;
+        // one scan over the positions (r - r0) * stride + c; the row ends (c > span_x) wrap
+        const int n_pos = (r1 - r0) * lm.stride + span_x + 1;
+        ushort* bar_r0 = bar + (size_t)r0 * lm.stride;
         hits.resize(n_pos);
-        const int n_hits = positionsPassing16(&scores[0], bar, n_pos, (ushort)raw_thr,
+        const int n_hits = positionsPassing16(&scores[0], bar_r0, n_pos, (ushort)raw_thr,
                                               (ushort)(4 * sc.total), &hits[0]); // <= 65532
         for (int h = 0; h < n_hits; ++h)
         {
             const int p = hits[h];
-            const int r = p / lm.stride, c = p - r * lm.stride;
-            if (c > span_x)
+            const int dr = p / lm.stride, c = p - dr * lm.stride, r = r0 + dr;
+            if (c > span_x || (cells && !cells->reaches(c + centre.x, r + centre.y, z)))
                 continue;
             sc.raw = scores[p];
             Scored* list = best + (size_t)(r * lm.cells_x + c) * K;
             keepBest(list, K, sc);
-            bar[p] = entryBar(list[K - 1]);
+            bar_r0[p] = entryBar(list[K - 1]);
         }
     }
 }
@@ -153,8 +183,9 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
 // keep: max_survivors for each of the (T / step)^2 locations of the forest path that a cell of
 // the T grid holds (validateLocations).
 void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
-                             const ClassPyramids& pyramids, const std::vector<int>& rows,
-                             float threshold, int keep, std::vector<cv::linemod::Match>& out)
+                      const ClassPyramids& pyramids, const std::vector<int>& rows,
+                      float threshold, int keep, float depth_tolerance,
+                      std::vector<cv::linemod::Match>& out)
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
@@ -162,6 +193,7 @@ void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
     const int K = keep;
     const int offset = T / 2 + (T % 2 - 1);
     CV_Assert(index.coarse.begin.size() == index.rows.size() + 1);
+    const DepthCells* cells = scene.depth_cells.empty() ? 0 : &scene.depth_cells;
     LinearMemories lm;
     lm.build(top);
     const int P = lm.cells_x * lm.cells_y;
@@ -176,8 +208,8 @@ void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
         {
             std::fill(bar.begin(), bar.end(), (ushort)0);
             searchTemplates(top, L, lm, index, pyramids, rows, (int)((int64)n * b / blocks),
-                            (int)((int64)n * (b + 1) / blocks), threshold, K, &best[b][0],
-                            &bar[0]);
+                            (int)((int64)n * (b + 1) / blocks), threshold, K, cells,
+                            depth_tolerance, &best[b][0], &bar[0]);
         }
     });
     for (int b = 1; b < blocks; ++b)

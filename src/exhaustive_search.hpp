@@ -32,13 +32,16 @@ CV_EXPORTS bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid&
                                 std::vector<ushort>& scores);
 
 /** Every template of `rows` (index rows of the groups searched exhaustively, asked for) at every
-position of the coarsest level's T grid where it fits (cv::linemod's positions and scores); each
+position of the coarsest level's T grid where it fits (cv::linemod's positions and scores) and,
+when the scene has depth cells (ScenePyramid::depth_cells), where the scene depth around its
+centre reaches into its depth samples' range widened by `depth_tolerance`; each
 position keeps its best `keep` templates over the threshold as coarse matches, appended to `out`
 (row-major positions, best first). The templates are scored in a fixed number of blocks, each
 with its own best lists, merged afterwards: the result does not depend on the threads. */
 void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
                       const ClassPyramids& pyramids, const std::vector<int>& rows,
-                      float threshold, int keep, std::vector<cv::linemod::Match>& out);
+                      float threshold, int keep, float depth_tolerance,
+                      std::vector<cv::linemod::Match>& out);
 
 /** Exhaustive LINEMOD search of the given classes: every template at every position of the
 coarsest level where it fits, class by class, template by template; the coarse matches over the

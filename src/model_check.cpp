@@ -65,9 +65,8 @@ void checkDetectorParams(const DetectorParams& p)
                "DetectorParams: depth_tolerance must be at most 65535 mm");
     CV_CheckGE(p.min_window_labels, 0.f, "DetectorParams: min_window_labels must be in [0, 1]");
     CV_CheckLE(p.min_window_labels, 1.f, "DetectorParams: min_window_labels must be in [0, 1]");
-    CV_CheckGE(p.depth_range_margin, 0, "DetectorParams: depth_range_margin must be >= 0 (0: off)");
-    CV_CheckLE(p.depth_range_margin, (int)MAX_DEPTH_SAMPLE_MM,
-               "DetectorParams: depth_range_margin must be at most 65535 mm");
+    CV_Check(p.depth_range_tolerance, finite(p.depth_range_tolerance),
+             "DetectorParams: depth_range_tolerance must be finite (negative: off)");
     CV_CheckGE(p.dominant_window, 1, "DetectorParams: dominant_window must be in [1, 9]");
     CV_CheckLE(p.dominant_window, 9, "DetectorParams: dominant_window must be in [1, 9]");
     CV_Check(p.group_size_ratio, p.group_size_ratio >= 0.f && finite(p.group_size_ratio),

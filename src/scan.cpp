@@ -43,9 +43,11 @@ struct ScanContext
     int max_trees;
     const std::vector<uchar>* row_allowed;
     std::vector<int> group_of_row;         //!< [index row]: group (in `groups`) or -1
-    int S, L;
-    bool check_depth;
-    int z_lo, z_hi;
+    int S, L, T;
+    /** The scene depth per T-grid cell when the depth-range test runs, else null; [group]: the
+    widened depth range of its templates (empty: no test) */
+    const DepthCells* depth_cells;
+    std::vector<DepthSpan> depth_span;
 };
 
 // Outcome of a location: candidates, or the reason it left (rejection map codes).
@@ -61,8 +63,8 @@ struct RowOutput
     std::vector<int> rows;
     MatchCounters counters;
     std::vector<int64> pairs;      //!< sample rows: [group] candidates counted
-    /** Sample rows: per location of the row, DEPTH_RANGE or NOT_VISITED ([c * (groups + 1)])
-    then the verdict of every group; its code is known once the exhaustive groups are. */
+    /** Sample rows: per location of the row the verdict of every group ([c * groups + g]);
+    its code is known once the exhaustive groups are. */
     std::vector<short> verdicts;
 };
 
@@ -157,32 +159,12 @@ static ScanContext scanContext(const SearchIndex& index, const ScenePyramid& sce
     for (size_t g = 0; g < ctx.trees.size(); ++g)
         ctx.max_trees = std::max(ctx.max_trees, ctx.trees[g]);
     ctx.active.assign(ctx.groups.size(), 1);
-    ctx.check_depth = !scene.depth.empty() && params.depth_range_margin > 0 && index.z_max > 0;
-    ctx.z_lo = index.z_min - params.depth_range_margin;
-    ctx.z_hi = index.z_max + params.depth_range_margin;
+    ctx.T = scene.coarsest().T;
+    ctx.depth_cells = scene.depth_cells.empty() ? 0 : &scene.depth_cells;
+    ctx.depth_span.assign(ctx.groups.size(), DepthSpan());
+    for (size_t g = 0; g < ctx.groups.size() && ctx.depth_cells; ++g)
+        ctx.depth_span[g] = widenedSpan(ctx.groups[g]->depth, params.depth_range_tolerance);
     return ctx;
-}
-
-// Out of the templates' depth range: the scene depth is known at some probes around the location
-// and none of them lies inside.
-static bool outOfDepthRange(const ScanContext& ctx, int c, int r)
-{
-    const Mat& depth = ctx.scene->depth;
-    int known = 0, inside = 0;
-    for (size_t k = 0; k < ctx.index->depth_probe.size() && !inside; ++k)
-    {
-        // probes left of / above the frame are negative: a left shift would be undefined
-        const int x = (c * ctx.S + ctx.index->depth_probe[k].x) * (1 << ctx.L);
-        const int y = (r * ctx.S + ctx.index->depth_probe[k].y) * (1 << ctx.L);
-        if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows)
-            continue;
-        const int z = depth.at<ushort>(y, x);
-        if (!z)
-            continue;
-        ++known;
-        inside += z >= ctx.z_lo && z <= ctx.z_hi;
-    }
-    return known && !inside;
 }
 
 // The two tests that send most background locations out, for a row of W locations at once and
@@ -238,9 +220,10 @@ static void rowTests(const ScanContext& ctx, int r, int W, ScanScratch& s)
     }
 }
 
-// A location's code from its groups' verdicts: ACCEPTED when one group accepts it, FLAT when every
-// visited group found its window flat, else the deepest rejecting depth; NOT_SCANNED when no
-// group was visited.
+// A location's code from its groups' verdicts: ACCEPTED when one group accepts it, else the
+// deepest forest depth that rejected it, else FLAT when some visited group found its window
+// flat, else DEPTH_RANGE (every visited group out of its depth range); NOT_SCANNED when no group
+// was visited.
 static int locationCode(const short* verdict, int groups)
 {
     int flat = 0, deepest = -1, visited = 0;
@@ -254,15 +237,16 @@ static int locationCode(const short* verdict, int groups)
         ++visited;
         if (v == FLAT)
             ++flat;
-        else
+        else if (v >= 0)
             deepest = std::max(deepest, v);
     }
     if (visited == 0)
         return NOT_SCANNED;
-    return flat == visited ? FLAT : deepest;
+    return deepest >= 0 ? deepest : flat ? FLAT : DEPTH_RANGE;
 }
 
-// Every active search group (not cut in this row): a flat window, or its forest (every tree);
+// Every active search group (not cut in this row): out of its depth range, a flat window, or its
+// forest (every tree);
 // each group's verdict goes to s.verdict, the candidates of the accepting groups are the union
 // of their accepting trees' leaves (as index rows, marked in s.bits).
 static void visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch& s)
@@ -276,6 +260,12 @@ static void visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch
         if (!ctx.active[gi] || s.cut[gi])
             continue;
         const SearchGroup& grp = *ctx.groups[gi];
+        if (ctx.depth_cells && !ctx.depth_cells->reaches(c * ctx.S / ctx.T, r * ctx.S / ctx.T,
+                                                         ctx.depth_span[gi]))
+        {
+            verdict = DEPTH_RANGE;
+            continue;
+        }
         if (s.flat[gi * W + c])
         {
             verdict = FLAT;
@@ -378,24 +368,15 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
     if (sample)
     {
         out.pairs.assign(NG, 0);
-        out.verdicts.resize((size_t)W * (NG + 1));
+        out.verdicts.resize((size_t)W * NG);
     }
     rowTests(ctx, r, W, s);
     for (int c = 0; c < W; ++c)
     {
-        int code = DEPTH_RANGE;
-        if (!ctx.check_depth || !outOfDepthRange(ctx, c, r))
-        {
-            visitGroups(ctx, c, r, W, s);
-            code = locationCode(&s.verdict[0], NG);
-        }
+        visitGroups(ctx, c, r, W, s);
+        const int code = locationCode(&s.verdict[0], NG);
         if (sample)
-        {
-            short* v = &out.verdicts[(size_t)c * (NG + 1)];
-            v[0] = (short)(code == DEPTH_RANGE ? DEPTH_RANGE : NOT_VISITED);
-            if (code != DEPTH_RANGE)
-                std::copy(s.verdict.begin(), s.verdict.begin() + NG, v + 1);
-        }
+            std::copy(s.verdict.begin(), s.verdict.begin() + NG, &out.verdicts[(size_t)c * NG]);
         else
             countCode(code, c, r, map, out.counters);
         if (code != ACCEPTED)
@@ -469,16 +450,11 @@ static void finishSampleRows(const ScanContext& ctx, const std::vector<int>& sam
         RowOutput& ro = rows[r];
         for (int c = 0; c < W; ++c)
         {
-            short* v = &ro.verdicts[(size_t)c * (NG + 1)];
-            int code = DEPTH_RANGE;
-            if (v[0] != DEPTH_RANGE)
-            {
-                for (int g = 0; g < NG; ++g)
-                    if (!ctx.active[g])
-                        v[1 + g] = NOT_VISITED;
-                code = locationCode(v + 1, NG);
-            }
-            countCode(code, c, r, map, ro.counters);
+            short* v = &ro.verdicts[(size_t)c * NG];
+            for (int g = 0; g < NG; ++g)
+                if (!ctx.active[g])
+                    v[g] = NOT_VISITED;
+            countCode(locationCode(v, NG), c, r, map, ro.counters);
         }
         size_t k = 0, j = 0, kept_locations = 0;
         for (size_t l = 0; l < ro.location.size(); ++l)

@@ -39,7 +39,8 @@ struct LocationCandidates
 };
 
 /** Scans the coarsest level. row_allowed: per index row, whether its class was asked for;
-the depth-range test runs when the scene has depth and DetectorParams::depth_range_margin > 0.
+the depth-range test runs per group when the scene has depth cells
+(DetectorParams::depth_range_tolerance >= 0).
 With DetectorParams::exhaustive_ratio > 0, every 8th row of locations goes first through every
 group; the groups whose forest let more (location, candidate) pairs through there than the ratio
 allows (extrapolated to the frame) are marked `exhaustive` and left out of the other rows (their

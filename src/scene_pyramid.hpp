@@ -17,6 +17,7 @@
 
 #include "similarity.hpp"
 #include "depth_modality.hpp"
+#include "depth_range.hpp"
 #include "modality_roles.hpp"
 
 #include <vector>
@@ -49,6 +50,9 @@ struct ScenePyramid
     int border;
     /** Scene depth (CV_16UC1 mm) when the detector has a DepthNormal modality, else empty. */
     Mat depth;
+    /** The scene depth per cell of the coarsest level's T grid (out-of-depth-range rejection)
+    when the scene has depth and DetectorParams::depth_range_tolerance >= 0, else empty. */
+    DepthCells depth_cells;
     /** Depth contexts of the refinement levels (all but the coarsest) when depth is scored. */
     std::vector<DepthContext> depth_ctx;
 

@@ -288,33 +288,25 @@ static void groupDescriptors(const SearchIndex& index, SearchGroup& group,
         group.min_labels = std::min(group.min_labels, countNonZero(desc.row(i)));
 }
 
-// Out-of-depth-range rejection: the templates' depth range, probed at the anchor and around it
-// within a third of the smallest template.
-static void depthRange(SearchIndex& index, const ClassPyramids& pyramids,
-                       const TemplateStore& store, int M, int L)
+// Out-of-depth-range rejection (depth_range.hpp): each template's depth samples' range, each
+// group's the union of its templates'.
+static void depthSpans(SearchIndex& index, const TemplateStore& store)
 {
-    index.z_min = INT_MAX;
-    index.z_max = INT_MIN;
-    int min_half = INT_MAX;
+    index.depth.assign(index.rows.size(), DepthSpan());
     for (size_t r = 0; r < index.rows.size(); ++r)
     {
         const TemplateRef& ref = index.rows[r];
-        const Template& top = pyramidOf(pyramids, ref)[L * M];
-        min_half = std::min(min_half, std::max(1, std::min(top.width, top.height) / 2));
         const std::vector<Point3i>& dz = store.get(ref.class_id, ref.template_id).depth;
         for (size_t k = 0; k < dz.size(); ++k)
-        {
-            index.z_min = std::min(index.z_min, dz[k].z);
-            index.z_max = std::max(index.z_max, dz[k].z);
-        }
+            index.depth[r].add(DepthSpan(dz[k].z, dz[k].z));
     }
-    if (index.z_min > index.z_max)
-        index.z_min = index.z_max = 0; // no depth samples: no range check
-    index.depth_probe.clear();
-    const int h3 = std::max(1, min_half / 3);
-    for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx)
-            index.depth_probe.push_back(Point(dx * h3, dy * h3));
+    for (size_t g = 0; g < index.groups.size(); ++g)
+    {
+        SearchGroup& grp = index.groups[g];
+        grp.depth = DepthSpan();
+        for (size_t k = 0; k < grp.rows.size(); ++k)
+            grp.depth.add(index.depth[grp.rows[k]]);
+    }
 }
 
 Size coarseFeatures(const TemplatePyramid& tp, int level_index, int num_modalities, int T,
@@ -350,11 +342,16 @@ static void buildCoarseRuns(SearchIndex& index, const ClassPyramids& pyramids, i
     c.features.clear();
     c.begin.assign(1, 0);
     c.cells.clear();
+    c.centre.clear();
     c.total.clear();
     for (size_t r = 0; r < index.rows.size(); ++r)
     {
         const TemplatePyramid& tp = pyramidOf(pyramids, index.rows[r]);
         c.cells.push_back(coarseFeatures(tp, L, M, T, c.features));
+        // a position's match lies T / 2 + (T % 2 - 1) pixels into its cell (LINEMOD's offset)
+        const Template& top = tp[L * M];
+        const int offset = T / 2 + (T % 2 - 1);
+        c.centre.push_back(Point((offset + top.width / 2) / T, (offset + top.height / 2) / T));
         c.begin.push_back(static_cast<int>(c.features.size()));
         c.total.push_back(numFeatures(tp, L, M));
     }
@@ -374,7 +371,7 @@ static void prepare(SearchIndex& index, const ClassPyramids& pyramids, const Tem
     for (size_t gi = 0; gi < NG; ++gi)
         groupDescriptors(index, index.groups[gi], pyramids, store, params, M, L, T, descs[gi],
                          fgs[gi], idss[gi]);
-    depthRange(index, pyramids, store, M, L);
+    depthSpans(index, store);
     buildCoarseRuns(index, pyramids, M, L, T);
 }
 
@@ -447,8 +444,7 @@ void SearchIndex::clear()
 {
     rows.clear();
     groups.clear();
-    z_min = z_max = 0;
-    depth_probe.clear();
+    depth.clear();
     max_extent = 0;
     coarse = CoarseRuns();
     trained = false;

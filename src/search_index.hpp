@@ -11,6 +11,7 @@
 #define OPENCV_FORESTMOD_SEARCH_INDEX_HPP
 
 #include "template_store.hpp"
+#include "depth_range.hpp"
 #include "opencv2/forestmod/forest.hpp"
 
 namespace cv {
@@ -51,6 +52,7 @@ struct CoarseRuns
     std::vector<CoarseFeature> features;
     std::vector<int> begin;
     std::vector<Size> cells;
+    std::vector<Point> centre; //!< the cell of its centre, from its position's cell
     std::vector<int> total;
 };
 
@@ -69,6 +71,7 @@ struct SearchGroup
     std::vector<int> plane_of;            //!< per descriptor dimension: its modality
     std::vector<Point> dim_offset;        //!< per descriptor dimension: its grid offset
     int min_labels;                       //!< fewest labelled values of a training descriptor
+    DepthSpan depth;                      //!< its templates' depth samples' range (mm)
     Ptr<TemplateForest> forest;
 
     SearchGroup() : min_labels(0) {}
@@ -78,13 +81,12 @@ struct SearchIndex
 {
     std::vector<TemplateRef> rows;        //!< all templates, class by class
     std::vector<SearchGroup> groups;      //!< windows and forests (DetectorParams::group_size_ratio)
-    int z_min, z_max;                     //!< depth range (mm) of the templates' depth samples
-    std::vector<Point> depth_probe;       //!< offsets (coarsest level) of the depth-range probes
+    std::vector<DepthSpan> depth;         //!< [row]: its depth samples' range (mm)
     int max_extent;                       //!< largest template side (level 0 pixels)
     CoarseRuns coarse;                    //!< [row]: its features for the exhaustive search
     bool trained;
 
-    SearchIndex() : z_min(0), z_max(0), max_extent(0), trained(false) {}
+    SearchIndex() : max_extent(0), trained(false) {}
 
     /** Groups, windows, descriptors and forests of the templates (train()). */
     void train(const ClassPyramids& pyramids, const TemplateStore& store,

@@ -476,7 +476,8 @@ void validateLocations(const ScenePyramid& scene, const LocationCandidates& cand
     {
         const int per_cell = (top.T + cands.step - 1) / cands.step;
         searchExhaustive(scene, index, pyramids, dense_rows, threshold,
-                         params.max_survivors * per_cell * per_cell, coarse);
+                         params.max_survivors * per_cell * per_cell, params.depth_range_tolerance,
+                         coarse);
     }
 }
 

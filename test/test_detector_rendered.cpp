@@ -233,7 +233,7 @@ TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
     const std::vector<int> T = rgbdPyramid();
     DetectorParams p;
     p.depth_samples = 16;     // the depth range comes from the templates' depth samples
-    p.depth_range_margin = 100;
+    p.depth_range_tolerance = 0.25f; // the default
     cv::forestmod::Detector det(mods, T, p);
     std::vector<TemplateView> views;
     renderTemplates(ape, ViewSampler(sp), K, size, views);
@@ -270,7 +270,7 @@ TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
     EXPECT_GT(st.rejected_depth_range, st.locations / 2) << "the far wall covers most locations";
     EXPECT_LE(st.rejected_depth_range, st.rejected);
     DetectorParams off = p;
-    off.depth_range_margin = 0;
+    off.depth_range_tolerance = -1.f;
     det.setParams(off);
     DetectionStats st_off;
     det.match(src, 80.f, without, std::vector<String>(), std::vector<Mat>(), &st_off);
@@ -293,6 +293,85 @@ TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
     EXPECT_GT(st_flat.locations, 0);
     EXPECT_EQ(st_flat.locations, st_flat.rejected_flat);
     EXPECT_EQ(st_flat.locations, st_flat.rejected);
+}
+
+// Out of depth range, per template: with the ape's views at 650 and 1150 mm and the ape at 650
+// mm in front of a plane 100 mm behind it, the far views' depth range widened by the default
+// tolerance lies beyond every depth of the scene, so none of their templates may match; without
+// the test some of them do (on the ape's own edges and the background's). The object's best
+// match is the same either way, on both search paths (exhaustive search: per template and
+// position; forest path: per search group and location).
+TEST(Forestmod_Detector, depth_range_leaves_out_templates_of_other_distances)
+{
+    const Mesh ape = Mesh::load(meshPath(1));
+    const Matx33d K = lmoIntrinsics();
+    const Size size(640, 480);
+    ViewSampler::Params sp = sixApeViews();
+    sp.radii.assign(1, 650.0);
+    sp.radii.push_back(1150.0);
+    const std::vector<Ptr<linemod::Modality> > mods = getDefaultForestLINEMOD()->getModalities();
+    DetectorParams p;
+    p.depth_samples = 16;
+    cv::forestmod::Detector det(mods, rgbdPyramid(), p);
+    std::vector<TemplateView> views;
+    renderTemplates(ape, ViewSampler(sp), K, size, views);
+    std::map<int, bool> far; // template id -> seen from 1150 mm
+    int near_view = -1;
+    for (size_t i = 0; i < views.size(); ++i)
+    {
+        std::vector<Mat> src;
+        src.push_back(views[i].color);
+        src.push_back(views[i].depth);
+        src.push_back(views[i].color);
+        const int id = det.addTemplate(src, "ape", views[i].mask, views[i].R, views[i].t,
+                                       views[i].K);
+        ASSERT_GE(id, 0);
+        far[id] = cv::norm(views[i].t) > 900;
+        if (near_view < 0 && !far[id])
+            near_view = (int)i;
+    }
+    ASSERT_GE(near_view, 0);
+    Ptr<Renderer> renderer = Renderer::create(size);
+    SceneSynthesizer synth(renderer, K);
+    synth.addObject(ape);
+    synth.setBackgrounds(backgrounds());
+    RNG rng(3);
+    const SyntheticScene scene = synth.render(0, views[near_view].R, views[near_view].t, rng);
+    double z_max = 0;
+    minMaxLoc(scene.depth, 0, &z_max);
+    // the premise: the far views' range, widened, starts beyond the scene (their nearest depth
+    // samples lie about 1100 mm away: / 1.25 = 880 mm)
+    ASSERT_LT(z_max, 1050.0 / (1.0 + p.depth_range_tolerance));
+    std::vector<Mat> src;
+    src.push_back(scene.color);
+    src.push_back(scene.depth);
+    src.push_back(scene.color);
+    const float ratios[] = { 0.f, -1.f }; // exhaustive search, forest path
+    for (int k = 0; k < 2; ++k)
+    {
+        SCOPED_TRACE(cv::format("exhaustive_ratio %g", ratios[k]));
+        DetectorParams on = p, off = p;
+        on.exhaustive_ratio = off.exhaustive_ratio = ratios[k];
+        off.depth_range_tolerance = -1.f;
+        std::vector<PoseMatch> with, without;
+        det.setParams(on);
+        det.match(src, 80.f, with);
+        det.setParams(off);
+        det.match(src, 80.f, without);
+        ASSERT_FALSE(with.empty());
+        ASSERT_FALSE(without.empty());
+        int far_with = 0, far_without = 0;
+        for (size_t i = 0; i < with.size(); ++i)
+            far_with += far[with[i].template_id];
+        for (size_t i = 0; i < without.size(); ++i)
+            far_without += far[without[i].template_id];
+        EXPECT_EQ(0, far_with) << "templates of 1150 mm matched a scene nearer than 880 mm";
+        EXPECT_GT(far_without, 0) << "without the test the far templates match (the premise)";
+        EXPECT_EQ(without[0].template_id, with[0].template_id);
+        EXPECT_EQ(without[0].x, with[0].x);
+        EXPECT_EQ(without[0].y, with[0].y);
+        EXPECT_FALSE(far[with[0].template_id]);
+    }
 }
 
 }} // namespace

@@ -20,7 +20,8 @@
 // test that older model files load and match alike; the three shipped real LM-O frames; two
 // rendered RGB-D scenes. Each detector is run with 1 tree (the file's forests; also with
 // exhaustive_ratio < 0, the forest path in every group), 5 trees (retrained after load) and
-// exhaustively (use_forest = false).
+// exhaustively (use_forest = false); the RGB-D one also with 1 tree and the out-of-depth-range
+// test (the files predate DetectorParams::depth_range_tolerance and load with it off).
 
 #include "test_precomp.hpp"
 
@@ -138,15 +139,18 @@ static std::vector<GoldenCase> runModel(bool rgbd)
     EXPECT_TRUE(det.isTrained()) << "the model file holds its forests";
     // 1tree_forest: no group goes to the exhaustive search (on the real frames the default
     // exhaustive_ratio sends them all there), so the forests' scan is recorded on those too
-    const char* modes[] = { "1tree", "1tree_forest", "5trees", "exhaustive" };
+    const char* modes[] = { "1tree", "1tree_forest", "5trees", "exhaustive", "1tree_depth_range" };
     const DetectorParams file_params = det.getParams();
-    for (int mode = 0; mode < 4; ++mode)
+    EXPECT_LT(file_params.depth_range_tolerance, 0.f) << "files without the key: off";
+    for (int mode = 0; mode < (rgbd ? 5 : 4); ++mode)
     {
         if (mode > 0)
         {
             DetectorParams p = file_params;
             if (mode == 1)
                 p.exhaustive_ratio = -1.f;
+            else if (mode == 4)
+                p.depth_range_tolerance = DetectorParams().depth_range_tolerance;
             else
             {
                 p.forest.num_trees = 5;

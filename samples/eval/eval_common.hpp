@@ -67,6 +67,8 @@ struct EvalOptions
     int depth_samples, depth_tolerance, max_survivors, any_tree;
     float exhaustive_ratio;      //!< DetectorParams::exhaustive_ratio when has_exhaustive_ratio
     bool has_exhaustive_ratio;
+    float depth_range_tolerance; //!< DetectorParams::depth_range_tolerance when has_...
+    bool has_depth_range_tolerance;
     float fuzzy_margin;          //!< ForestParams::fuzzy_margin when >= 0
     float leaf_samples;
     bool depth_validation;

@@ -85,6 +85,8 @@ static const char* const keys
       "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
       "{exhaustive_ratio |         | experiment: DetectorParams::exhaustive_ratio (empty: default; "
       "negative: never exhaustive, 0: always) }"
+      "{depth_range_tolerance |    | experiment: DetectorParams::depth_range_tolerance (empty: "
+      "default; negative: off) }"
       "{fuzzy_margin    | -1       | experiment: ForestParams::fuzzy_margin of the forests (0: "
       "crisp splits; -1: default) }"
       "{any_tree        | -1       | experiment: ForestParams::reject_any_tree of the forests (0, 1; -1: default) }"
@@ -106,7 +108,8 @@ EvalOptions::EvalOptions()
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
-      exhaustive_ratio(0.f), has_exhaustive_ratio(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
+      exhaustive_ratio(0.f), has_exhaustive_ratio(false), depth_range_tolerance(0.f),
+      has_depth_range_tolerance(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
       depth_validation(true), five_trees(true), verify_k(10)
 {
     regimeSampler(regime, sampler);
@@ -170,6 +173,8 @@ fm::DetectorParams experimentParams(const EvalOptions& opt, fm::DetectorParams p
         p.max_survivors = opt.max_survivors;
     if (opt.has_exhaustive_ratio)
         p.exhaustive_ratio = opt.exhaustive_ratio;
+    if (opt.has_depth_range_tolerance)
+        p.depth_range_tolerance = opt.depth_range_tolerance;
     if (opt.fuzzy_margin >= 0.f)
         p.forest.fuzzy_margin = opt.fuzzy_margin;
     if (opt.any_tree >= 0)
@@ -254,6 +259,9 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.has_exhaustive_ratio = !parser.get<std::string>("exhaustive_ratio").empty();
     if (opt.has_exhaustive_ratio)
         opt.exhaustive_ratio = parser.get<float>("exhaustive_ratio");
+    opt.has_depth_range_tolerance = !parser.get<std::string>("depth_range_tolerance").empty();
+    if (opt.has_depth_range_tolerance)
+        opt.depth_range_tolerance = parser.get<float>("depth_range_tolerance");
     opt.fuzzy_margin = parser.get<float>("fuzzy_margin");
     opt.any_tree = parser.get<int>("any_tree");
     opt.leaf_samples = parser.get<float>("leaf_samples");

@@ -66,9 +66,14 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     /** A location leaves when its window holds fewer labelled values than this times the fewest
     of any training template (paper: "textureless background"). 0: off. Default 0.5. */
     CV_PROP_RW float min_window_labels;
-    /** With depth: a location leaves when the scene depth around it lies outside the templates'
-    depth range widened by this margin (mm; paper: "out-of-depth-range"). 0: off. Default 0. */
-    CV_PROP_RW int depth_range_margin;
+    /** With depth (paper: "out-of-depth-range"): a template is searched only where the scene
+    depth around its centre (3 x 3 cells of the coarsest level's T grid) reaches into its depth
+    samples' range [z_min, z_max] widened to [z_min / (1 + x), z_max (1 + x)], a search group
+    only at the locations where it reaches into one of its templates'. x covers the distances
+    between the templates' radii (a template matches its object a few percent nearer or
+    farther; 0.25 spans the gaps of the evaluation's radii, 650, 900 and 1150 mm). Negative:
+    off. Default 0.25 (doc/detector.md, "Rejections before the forest"). */
+    CV_PROP_RW float depth_range_tolerance;
 
     // ---- validation (paper: "Fast Breadth-first Leaf Validation") ----
     /** Breadth-first preemptive validation; false: every candidate scored on all its features.
