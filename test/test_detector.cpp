@@ -608,6 +608,26 @@ TEST(Forestmod_Detector, search_groups_model_roundtrip)
     const Mat frame = Mat(size, CV_8UC3, Scalar::all(40));
     grey.match(std::vector<Mat>(2, frame), 80.f, mg);
     EXPECT_TRUE(grey.isTrained());
+
+    // written before depth_range_tolerance, with the absolute depth_range_margin (0: off, its
+    // default): the test stays off as it was; a margin that was on loads as the default
+    const size_t tol_at = text.find("depth_range_tolerance:");
+    ASSERT_NE(std::string::npos, tol_at);
+    const size_t tol_end = text.find('\n', tol_at);
+    const int margins[] = { 0, 100 };
+    for (int k = 0; k < 2; ++k)
+    {
+        std::string t = text;
+        t.replace(tol_at, tol_end - tol_at, cv::format("depth_range_margin: %d", margins[k]));
+        {
+            std::ofstream f(file.c_str());
+            f << t;
+        }
+        cv::forestmod::Detector before;
+        before.load(file);
+        EXPECT_EQ(margins[k] ? DetectorParams().depth_range_tolerance : -1.f,
+                  before.getParams().depth_range_tolerance) << margins[k];
+    }
     std::remove(file.c_str());
 }
 

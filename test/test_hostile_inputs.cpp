@@ -243,6 +243,8 @@ TEST(Forestmod_HostileInputs, detector_params_out_of_range_raise_naming_the_fiel
         { "auto_depth_leaf_samples",
           [](cv::forestmod::DetectorParams& p) { p.auto_depth_leaf_samples = std::nanf(""); } },
         { "depth_tolerance", [](cv::forestmod::DetectorParams& p) { p.depth_tolerance = 70000; } },
+        { "depth_range_tolerance",
+          [](cv::forestmod::DetectorParams& p) { p.depth_range_tolerance = std::nanf(""); } },
         { "max_survivors", [](cv::forestmod::DetectorParams& p) { p.max_survivors = 65; } },
         { "max_survivors", [](cv::forestmod::DetectorParams& p) { p.max_survivors = 0; } },
         { "num_trees", [](cv::forestmod::DetectorParams& p) { p.forest.num_trees = 1001; } },
