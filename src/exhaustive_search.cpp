@@ -191,7 +191,7 @@ void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
     const int L = scene.coarsestIndex();
     const int T = top.T;
     const int K = keep;
-    const int offset = T / 2 + (T % 2 - 1);
+    const int offset = matchOffset(T);
     CV_Assert(index.coarse.begin.size() == index.rows.size() + 1);
     const DepthCells* cells = scene.depth_cells.empty() ? 0 : &scene.depth_cells;
     LinearMemories lm;
@@ -239,7 +239,7 @@ static void searchTemplate(const ScenePyramid& scene, const TemplatePyramid& tp,
     const int L = scene.coarsestIndex();
     const int M = top.modalities();
     const int T = top.T;
-    const int offset = T / 2 + (T % 2 - 1);
+    const int offset = matchOffset(T);
     const cv::linemod::Template& t = tp[L * M];
     const int W = top.size.width / T, H = top.size.height / T;
     const int span_x = W - ((t.width - 1) / T + 1);

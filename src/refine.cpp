@@ -46,7 +46,7 @@ static Point bestPosition(const LevelMaps& lm, const TemplatePyramid& tp, int l,
                 best_c = c;
             }
         }
-    const int offset = T / 2 + (T % 2 - 1);
+    const int offset = matchOffset(T);
     return Point((x / T - 8 + best_c) * T + offset, (y / T - 8 + best_r) * T + offset);
 }
 
@@ -95,7 +95,7 @@ static void refineSpan(int lo, int hi, int border, int max_v, int T, int f_lo, i
     const int a = std::min(std::max(lo * 2 + 1, border), max_v);
     const int b = std::min(std::max(hi * 2 + 1, border), max_v);
     const int oa = (a / T - 8) * T, ob = (b / T - 8) * T;
-    const int offset = T / 2 + (T % 2 - 1);
+    const int offset = matchOffset(T);
     read_first = oa + f_lo;
     read_last = ob + 15 * T + f_hi;
     next_lo = oa - T + offset;

@@ -348,9 +348,9 @@ static void buildCoarseRuns(SearchIndex& index, const ClassPyramids& pyramids, i
     {
         const TemplatePyramid& tp = pyramidOf(pyramids, index.rows[r]);
         c.cells.push_back(coarseFeatures(tp, L, M, T, c.features));
-        // a position's match lies T / 2 + (T % 2 - 1) pixels into its cell (LINEMOD's offset)
+        // the cell of its centre, from the cell of the position its matches are reported at
         const Template& top = tp[L * M];
-        const int offset = T / 2 + (T % 2 - 1);
+        const int offset = matchOffset(T);
         c.centre.push_back(Point((offset + top.width / 2) / T, (offset + top.height / 2) / T));
         c.begin.push_back(static_cast<int>(c.features.size()));
         c.total.push_back(numFeatures(tp, L, M));

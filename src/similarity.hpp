@@ -57,6 +57,13 @@ static inline int rawThreshold(float threshold, int num_features)
     return static_cast<int>(2 * num_features + (threshold / 100.f) * (2 * num_features) + 0.5f);
 }
 
+/** Where cv::linemod reports a match found at cell (c, r) of a T grid: (c T + offset, r T +
+offset), offset = T / 2 + (T % 2 - 1) pixels into the cell. */
+static inline int matchOffset(int T)
+{
+    return T / 2 + (T % 2 - 1);
+}
+
 /** Number of features of a template over all modalities at one level. */
 static inline int numFeatures(const TemplatePyramid& tp, int level_index, int num_modalities)
 {

@@ -330,7 +330,7 @@ static void emitLocation(const ValidationContext& ctx, const LocationCandidates&
     });
     const int S = cands.step;
     const Point loc = cands.location[i];
-    const int offset = T / 2 + (T % 2 - 1);
+    const int offset = matchOffset(T);
     for (int k = 0; k < n && k < params.max_survivors; ++k)
     {
         const int j = al[k];
