@@ -231,6 +231,53 @@ TEST(Forestmod_Pose, icp_early_passes_use_early_pass_points)
     EXPECT_EQ(cvtest::norm(Mat(r1.t), Mat(r2.t), NORM_INF), 0.0);
 }
 
+// A run on the wrong surface (the ape's visible points over a bumpy surface with no ape in it)
+// keeps a wide gate and runs out its iterations; max_stalled_iterations stops it where its gate
+// stopped shrinking, as a run cut at that iteration. A run that locks on is not cut.
+TEST(Forestmod_Pose, icp_stops_a_run_whose_gate_stalls)
+{
+    MeshRenderer mr(apeMesh(), Size(640, 480));
+    const Matx33d K = lmoIntrinsics();
+    RNG rng(20261125);
+    const Matx33d R = uniformRotation(rng);
+    const Vec3d t(20, -10, 700);
+    const std::vector<Point3f> pts = modelPointsFromDepth(mr.depth16(R, t, K), K, R, t);
+    ASSERT_GT(pts.size(), 500u);
+    Mat bumps(480, 640, CV_32FC1);
+    for (int y = 0; y < bumps.rows; ++y)
+        for (int x = 0; x < bumps.cols; ++x)
+            bumps.at<float>(y, x) = (float)(720 + 25 * std::sin(x / 9.0) * std::sin(y / 11.0)
+                                            + 15 * std::sin((x + y) / 23.0));
+    const Mat scene = sensorNoise(bumps, rng);
+    ICPParams off;
+    off.max_stalled_iterations = 0;
+    const ICPParams on; // the default
+    ASSERT_GT(on.max_stalled_iterations, 0);
+    const ICPResult a = refineICP(pts, scene, K, R, t, off);
+    const ICPResult b = refineICP(pts, scene, K, R, t, on);
+    EXPECT_FALSE(a.converged);
+    EXPECT_EQ(a.iterations, off.max_iterations);
+    EXPECT_FALSE(b.converged);
+    EXPECT_GE(b.iterations, on.max_stalled_iterations);
+    EXPECT_LT(b.iterations, a.iterations);
+    ICPParams cut = off;
+    cut.max_iterations = b.iterations;
+    const ICPResult c = refineICP(pts, scene, K, R, t, cut);
+    EXPECT_EQ(cvtest::norm(Mat(c.R), Mat(b.R), NORM_INF), 0.0);
+    EXPECT_EQ(cvtest::norm(Mat(c.t), Mat(b.t), NORM_INF), 0.0);
+
+    // the ape's own scene, 5 degrees and 10 mm off: the same pose with and without the stop
+    const Mat own = makeScene(mr, R, t, K, Size(640, 480), 0.0, rng);
+    const Matx33d R0 = randomRotation(rng, 5.0 * CV_PI / 180) * R;
+    const Vec3d t0 = t + Vec3d(6, -5, 5);
+    const ICPResult d = refineICP(pts, own, K, R0, t0, off);
+    const ICPResult e = refineICP(pts, own, K, R0, t0, on);
+    EXPECT_TRUE(e.converged);
+    EXPECT_EQ(d.iterations, e.iterations);
+    EXPECT_EQ(cvtest::norm(Mat(d.t), Mat(e.t), NORM_INF), 0.0);
+    EXPECT_LT(cv::norm(e.t - t), 2.0);
+}
+
 // The detector's ICP draws the coarse mesh on the CPU (coarseMesh, drawMesh: no lock, the
 // hypotheses in parallel): as accurate as the OSMesa rendering of the full mesh, same trials.
 TEST(Forestmod_Pose, icp_with_the_cpu_drawing_of_the_coarse_mesh)
@@ -725,6 +772,7 @@ TEST(Forestmod_Pose, icp_params_roundtrip_and_validation)
     p.max_points = 123;
     p.early_pass_points = 45;
     p.min_ray_cosine = 0.25;
+    p.max_stalled_iterations = 9;
     FileStorage fs("icp.yml", FileStorage::WRITE | FileStorage::MEMORY);
     fs << "icp" << "{";
     p.write(fs);
@@ -739,6 +787,7 @@ TEST(Forestmod_Pose, icp_params_roundtrip_and_validation)
     EXPECT_EQ(q.max_points, 123);
     EXPECT_EQ(q.early_pass_points, 45);
     EXPECT_EQ(q.min_ray_cosine, 0.25);
+    EXPECT_EQ(q.max_stalled_iterations, 9);
     EXPECT_EQ(q.normal_radius, ICPParams().normal_radius);
 
     const std::vector<Point3f> pts(100, Point3f(0, 0, 0));
@@ -750,6 +799,9 @@ TEST(Forestmod_Pose, icp_params_roundtrip_and_validation)
     EXPECT_THROW(refineICP(pts, depth, K, I, t, bad), cv::Exception);
     bad = ICPParams();
     bad.min_correspondence_distance = 2 * bad.max_correspondence_distance;
+    EXPECT_THROW(refineICP(pts, depth, K, I, t, bad), cv::Exception);
+    bad = ICPParams();
+    bad.max_stalled_iterations = -1;
     EXPECT_THROW(refineICP(pts, depth, K, I, t, bad), cv::Exception);
     EXPECT_THROW(refineICP(pts, Mat(), K, I, t), cv::Exception);
     EXPECT_THROW(refineICP(pts, Mat(48, 64, CV_32FC1, Scalar(0.5)), K, I, t), cv::Exception);
