@@ -388,8 +388,8 @@ static bool icpStep(const std::vector<Correspondence>& corr, double gate, const 
         const double w = (1 - u * u) * (1 - u * u) / (c.g * c.g);
         const Vec3d a = (c.q - centre).cross(c.n);
         const double J[6] = { a[0], a[1], a[2], c.n[0], c.n[1], c.n[2] };
-        // A += w J J^T on the upper triangle, column by column with the products in the order of
-        // Eigen's rankUpdate (the same sums; a call per point cost 12 % of the poses)
+        // A += w J J^T on the upper triangle, column by column with the products in the order
+        // of Eigen's rankUpdate (the same sums; a call per point took 12 % of the pose stage)
         const double wr = w * c.r;
         for (int j = 0; j < 6; ++j)
         {

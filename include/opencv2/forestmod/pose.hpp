@@ -77,8 +77,8 @@ struct CV_EXPORTS_W_SIMPLE ICPParams
     gate, still above min_correspondence_distance, did not shrink by 0.1 % or more; 0 = never.
     Default 8. A run whose gate has stopped shrinking moves little more if it is on the object
     and wanders until max_iterations if it is not (a hypothesis on clutter): on rendered RGB-D
-    scenes the stop changes no hypothesis' depth check outcome and saves a quarter of the poses'
-    time (doc/pose.md, "Runs whose gate stalls"). */
+    scenes the stop changed no outcome and took 3-26 % off the poses' time per object
+    (doc/pose.md, "Runs whose gate stalls"). */
     CV_PROP_RW int max_stalled_iterations;
     /** At most this many model points are used (evenly subsampled, deterministic); <= 0 = all.
     Default 4000 (all the visible surface of a 100 mm object at 0.5 m in VGA): the rotation of
