@@ -54,14 +54,17 @@ void quantizeHue(InputArray _bgr, OutputArray _dst, int saturation_threshold, in
 }
 
 ColorHue::Params::Params()
-    : saturation_threshold(50), value_threshold(40), num_features(63), blur_size(3),
-      mask_erosion(2)
+    : saturation_threshold(50), feature_saturation_threshold(70), min_feature_area(0.1f),
+      value_threshold(40),
+      num_features(63), blur_size(3), mask_erosion(2)
 {
 }
 
 void ColorHue::Params::read(const FileNode& fn)
 {
     detail::readField(fn, "saturation_threshold", saturation_threshold);
+    detail::readField(fn, "feature_saturation_threshold", feature_saturation_threshold);
+    detail::readField(fn, "min_feature_area", min_feature_area);
     detail::readField(fn, "value_threshold", value_threshold);
     detail::readField(fn, "num_features", num_features);
     detail::readField(fn, "blur_size", blur_size);
@@ -71,6 +74,8 @@ void ColorHue::Params::read(const FileNode& fn)
 void ColorHue::Params::write(FileStorage& fs) const
 {
     fs << "saturation_threshold" << saturation_threshold;
+    fs << "feature_saturation_threshold" << feature_saturation_threshold;
+    fs << "min_feature_area" << min_feature_area;
     fs << "value_threshold" << value_threshold;
     fs << "num_features" << num_features;
     fs << "blur_size" << blur_size;
@@ -81,6 +86,12 @@ static void checkParams(const ColorHue::Params& p)
 {
     CV_CheckGE(p.saturation_threshold, 0, "ColorHue: saturation_threshold must be in [0, 255]");
     CV_CheckLE(p.saturation_threshold, 255, "ColorHue: saturation_threshold must be in [0, 255]");
+    CV_CheckGE(p.feature_saturation_threshold, 0,
+               "ColorHue: feature_saturation_threshold must be in [0, 255]");
+    CV_CheckLE(p.feature_saturation_threshold, 255,
+               "ColorHue: feature_saturation_threshold must be in [0, 255]");
+    CV_Check(p.min_feature_area, p.min_feature_area >= 0.f && p.min_feature_area <= 1.f,
+             "ColorHue: min_feature_area must be in [0, 1]");
     CV_CheckGE(p.value_threshold, 0, "ColorHue: value_threshold must be in [0, 255]");
     CV_CheckLE(p.value_threshold, 255, "ColorHue: value_threshold must be in [0, 255]");
     CV_CheckGT(p.num_features, 0, "ColorHue: num_features must be positive");
@@ -174,22 +185,31 @@ bool HuePyramid::extractTemplate(Template& templ) const
             local_mask = mask_;
     }
 
+    // a labelled pixel has saturation >= saturation_threshold; a feature needs the stronger one
+    const int s_min = params_.feature_saturation_threshold;
     std::vector<Candidate> candidates;
+    size_t area = 0;
     for (int r = 0; r < quantized_.rows; ++r)
     {
         const uchar* q = quantized_.ptr<uchar>(r);
         const uchar* s = saturation_.ptr<uchar>(r);
         const uchar* m = local_mask.empty() ? 0 : local_mask.ptr<uchar>(r);
         for (int c = 0; c < quantized_.cols; ++c)
-            if (q[c] && (!m || m[c]))
+        {
+            if (m && !m[c])
+                continue;
+            ++area;
+            if (q[c] && s[c] >= s_min)
                 candidates.push_back(Candidate(c, r, bitToBin(q[c]), static_cast<float>(s[c])));
+        }
     }
     templ.features.clear();
     templ.width = -1; // size is set by the detector, shared by all modalities
     templ.height = -1;
     templ.pyramid_level = pyramid_level_;
-    // Like ColorGradient, refuse a template without usable features (addTemplate returns -1).
-    if (candidates.empty())
+    // Like ColorGradient, refuse a template without usable features (addTemplate returns -1); a
+    // few coloured spots on a colourless object are not its colour either.
+    if (candidates.empty() || candidates.size() < params_.min_feature_area * area)
         return false;
 
     std::stable_sort(candidates.begin(), candidates.end());

@@ -72,6 +72,7 @@ struct EvalOptions
     float fuzzy_margin;          //!< ForestParams::fuzzy_margin when >= 0
     float leaf_samples;
     bool depth_validation;
+    int hue_feature_saturation;  //!< ColorHue::Params::feature_saturation_threshold when >= 0
 
     bool five_trees;                   //!< Table 1's forestmod 5 trees row
 
@@ -93,6 +94,8 @@ N poses per object". */
 std::string samplingText(const fm::ViewSampler::Params& p);
 
 /** DetectorParams with the experiment flags applied. */
+//! the ColorHue parameters of the run's templates (--hue_feature_saturation)
+fm::ColorHue::Params hueParams(const EvalOptions& opt);
 fm::DetectorParams experimentParams(const EvalOptions& opt,
                                     fm::DetectorParams p = fm::DetectorParams());
 

@@ -90,6 +90,8 @@ static const char* const keys
       "{fuzzy_margin    | -1       | experiment: ForestParams::fuzzy_margin of the forests (0: "
       "crisp splits; -1: default) }"
       "{any_tree        | -1       | experiment: ForestParams::reject_any_tree of the forests (0, 1; -1: default) }"
+      "{hue_feature_saturation | -1 | experiment: ColorHue::Params::feature_saturation_threshold "
+      "of the templates (0..255; -1: default) }"
       "{leaf_samples    | -1       | experiment: DetectorParams::auto_depth_leaf_samples (-1: "
       "default; 0: the paper's depth 8 / 9) }"
       "{depth_validation | 1       | experiment: 0 turns the depth validation term off after the "
@@ -110,7 +112,7 @@ EvalOptions::EvalOptions()
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
       exhaustive_ratio(0.f), has_exhaustive_ratio(false), depth_range_tolerance(0.f),
       has_depth_range_tolerance(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
-      depth_validation(true), five_trees(true), verify_k(10)
+      depth_validation(true), hue_feature_saturation(-1), five_trees(true), verify_k(10)
 {
     regimeSampler(regime, sampler);
 }
@@ -161,6 +163,14 @@ std::string samplingText(const fm::ViewSampler::Params& p)
                       p.level, p.min_elevation, p.max_elevation, (int)s.viewpoints().size(),
                       radii.c_str(), p.inplane_min, p.inplane_max, p.inplane_step,
                       (int)s.inplaneAngles().size(), s.size());
+}
+
+fm::ColorHue::Params hueParams(const EvalOptions& opt)
+{
+    fm::ColorHue::Params p;
+    if (opt.hue_feature_saturation >= 0)
+        p.feature_saturation_threshold = opt.hue_feature_saturation;
+    return p;
 }
 
 fm::DetectorParams experimentParams(const EvalOptions& opt, fm::DetectorParams p)
@@ -265,6 +275,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.fuzzy_margin = parser.get<float>("fuzzy_margin");
     opt.any_tree = parser.get<int>("any_tree");
     opt.leaf_samples = parser.get<float>("leaf_samples");
+    opt.hue_feature_saturation = parser.get<int>("hue_feature_saturation");
     opt.force = parser.has("force");
     opt.verify_k = parser.get<int>("verify_k");
     const std::string weights_arg = parser.get<std::string>("verify_weights");
@@ -321,6 +332,8 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
         return fail("--rgb_keep must be >= 1");
     if (opt.verify_k < 1)
         return fail("--verify_k must be >= 1");
+    if (opt.hue_feature_saturation < -1 || opt.hue_feature_saturation > 255)
+        return fail("--hue_feature_saturation must be in [0, 255] (-1: the default)");
     if (opt.fuzzy_margin < 0.f && opt.fuzzy_margin != -1.f)
         return fail("--fuzzy_margin must be >= 0 (-1: the default)");
     if (!weights_arg.empty()

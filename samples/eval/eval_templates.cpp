@@ -24,7 +24,7 @@ cv::Ptr<fm::Detector> makeDetector(const EvalOptions& opt,
     std::vector<cv::Ptr<cv::linemod::Modality> > mods;
     for (size_t i = 0; i < modalities.size(); ++i)
         mods.push_back(modalities[i] == "ColorHue"
-                           ? cv::Ptr<cv::linemod::Modality>(fm::ColorHue::create())
+                           ? cv::Ptr<cv::linemod::Modality>(fm::ColorHue::create(hueParams(opt)))
                            : cv::linemod::Modality::create(modalities[i]));
     std::vector<int> T;
     T.push_back(5);
@@ -100,6 +100,13 @@ static std::string cacheKey(const EvalOptions& opt, const ObjectInfo& obj,
     setup.sampler.params.write(fs);
     fs << "}";
     fs << "mesh_size" << (double)mesh_size;
+    if (std::find(setup.modalities.begin(), setup.modalities.end(), std::string("ColorHue"))
+        != setup.modalities.end())
+    {
+        fs << "hue" << "{"; // its template features (feature_saturation_threshold 70 since v1)
+        hueParams(opt).write(fs);
+        fs << "}";
+    }
     const int ds = experimentParams(opt).depth_samples;
     const bool has_depth = std::find(setup.modalities.begin(), setup.modalities.end(),
                                      std::string("DepthNormal")) != setup.modalities.end();

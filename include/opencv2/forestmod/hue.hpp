@@ -44,6 +44,18 @@ public:
         usual 2-4 grey levels of colour noise, hue below S = 50 wanders by more than half a bin.
         Greys, white and black have no hue at all. */
         CV_PROP_RW int saturation_threshold;
+        /** Minimum saturation of a template pixel to become a hue feature (the scene keeps
+        saturation_threshold), as ColorGradient's strong and weak thresholds. Default 70: drawn
+        at LM-O's ground-truth poses, the driller's mesh colours of saturation 50-69 fall into
+        the real frame's hue bin at 21 % of its pixels (the next bin at 65 %), those from 70 on
+        at 72-99 % for every object (doc/detector.md, "Hue features of pale colours"). 0 or
+        saturation_threshold: every labelled pixel. */
+        CV_PROP_RW int feature_saturation_threshold;
+        /** Smallest share of the eroded object mask that those pixels must cover for a template
+        to have hue features at all. Default 0.1: drawn at LM-O's ground-truth poses, those of
+        the driller cover 1.2 % of it and the glue's 2.9 % (coloured spots on colourless
+        objects), those of the ape, cat, duck and holepuncher 99-100 %. 0: any. */
+        CV_PROP_RW float min_feature_area;
         /** Minimum value V = max(R,G,B) (0..255). Default 40: in dark pixels the channel
         differences that define hue are within sensor noise. */
         CV_PROP_RW int value_threshold;
