@@ -644,8 +644,9 @@ TEST(Forestmod_Eval, out_of_range_options_are_refused)
     const TempDir tmp("forestmod_eval_options");
     const std::string exe = samplePath("forestmod_eval");
     const char* bad[] = { "--rgb_hypotheses=0", "--rgb_keep=0", "--verify_k=0",
-                          "--fuzzy_margin=-0.5" };
-    const char* bound[] = { ">= 1", ">= 1", ">= 1", ">= 0" };
+                          "--fuzzy_margin=-0.5", "--hue_feature_saturation=256",
+                          "--hue_feature_area=1.5" };
+    const char* bound[] = { ">= 1", ">= 1", ">= 1", ">= 0", "in [0, 255]", "in [0, 1]" };
     for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); ++i)
     {
         std::string out, err;

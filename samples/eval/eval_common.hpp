@@ -73,6 +73,7 @@ struct EvalOptions
     float leaf_samples;
     bool depth_validation;
     int hue_feature_saturation;  //!< ColorHue::Params::feature_saturation_threshold when >= 0
+    float hue_feature_area;      //!< ColorHue::Params::min_feature_area when >= 0
 
     bool five_trees;                   //!< Table 1's forestmod 5 trees row
 

@@ -92,6 +92,8 @@ static const char* const keys
       "{any_tree        | -1       | experiment: ForestParams::reject_any_tree of the forests (0, 1; -1: default) }"
       "{hue_feature_saturation | -1 | experiment: ColorHue::Params::feature_saturation_threshold "
       "of the templates (0..255; -1: default) }"
+      "{hue_feature_area | -1      | experiment: ColorHue::Params::min_feature_area of the "
+      "templates (0..1; -1: default) }"
       "{leaf_samples    | -1       | experiment: DetectorParams::auto_depth_leaf_samples (-1: "
       "default; 0: the paper's depth 8 / 9) }"
       "{depth_validation | 1       | experiment: 0 turns the depth validation term off after the "
@@ -112,7 +114,8 @@ EvalOptions::EvalOptions()
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
       exhaustive_ratio(0.f), has_exhaustive_ratio(false), depth_range_tolerance(0.f),
       has_depth_range_tolerance(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
-      depth_validation(true), hue_feature_saturation(-1), five_trees(true), verify_k(10)
+      depth_validation(true), hue_feature_saturation(-1),
+      hue_feature_area(-1.f), five_trees(true), verify_k(10)
 {
     regimeSampler(regime, sampler);
 }
@@ -170,6 +173,8 @@ fm::ColorHue::Params hueParams(const EvalOptions& opt)
     fm::ColorHue::Params p;
     if (opt.hue_feature_saturation >= 0)
         p.feature_saturation_threshold = opt.hue_feature_saturation;
+    if (opt.hue_feature_area >= 0.f)
+        p.min_feature_area = opt.hue_feature_area;
     return p;
 }
 
@@ -276,6 +281,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.any_tree = parser.get<int>("any_tree");
     opt.leaf_samples = parser.get<float>("leaf_samples");
     opt.hue_feature_saturation = parser.get<int>("hue_feature_saturation");
+    opt.hue_feature_area = parser.get<float>("hue_feature_area");
     opt.force = parser.has("force");
     opt.verify_k = parser.get<int>("verify_k");
     const std::string weights_arg = parser.get<std::string>("verify_weights");
@@ -334,6 +340,9 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
         return fail("--verify_k must be >= 1");
     if (opt.hue_feature_saturation < -1 || opt.hue_feature_saturation > 255)
         return fail("--hue_feature_saturation must be in [0, 255] (-1: the default)");
+    if (opt.hue_feature_area != -1.f
+        && !(opt.hue_feature_area >= 0.f && opt.hue_feature_area <= 1.f))
+        return fail("--hue_feature_area must be in [0, 1] (-1: the default)");
     if (opt.fuzzy_margin < 0.f && opt.fuzzy_margin != -1.f)
         return fail("--fuzzy_margin must be >= 0 (-1: the default)");
     if (!weights_arg.empty()
