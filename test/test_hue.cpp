@@ -447,15 +447,14 @@ TEST(Forestmod_Hue, read_write_roundtrip)
     FileStorage in2(fs2.releaseAndGetString(), FileStorage::READ + FileStorage::MEMORY);
     EXPECT_THROW(back->read(in2["modality"]), cv::Exception);
     // invalid values are refused
-    FileStorage in3("%YAML:1.0\nm: { type: ColorHue, saturation_threshold: 300 }\n",
-                    FileStorage::READ + FileStorage::MEMORY);
-    EXPECT_THROW(back->read(in3["m"]), cv::Exception);
-    FileStorage in4("%YAML:1.0\nm: { type: ColorHue, feature_saturation_threshold: -1 }\n",
-                    FileStorage::READ + FileStorage::MEMORY);
-    EXPECT_THROW(back->read(in4["m"]), cv::Exception);
-    FileStorage in6("%YAML:1.0\nm: { type: ColorHue, min_feature_area: 1.5 }\n",
-                    FileStorage::READ + FileStorage::MEMORY);
-    EXPECT_THROW(back->read(in6["m"]), cv::Exception);
+    const char* bad[] = { "saturation_threshold: 300", "feature_saturation_threshold: -1",
+                          "min_feature_area: 1.5" };
+    for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); ++i)
+    {
+        FileStorage in3(std::string("%YAML:1.0\nm: { type: ColorHue, ") + bad[i] + " }\n",
+                        FileStorage::READ + FileStorage::MEMORY);
+        EXPECT_THROW(back->read(in3["m"]), cv::Exception) << bad[i];
+    }
     // a file written before the field keeps the default
     FileStorage in5("%YAML:1.0\nm: { type: ColorHue, saturation_threshold: 60 }\n",
                     FileStorage::READ + FileStorage::MEMORY);
