@@ -55,8 +55,7 @@ void quantizeHue(InputArray _bgr, OutputArray _dst, int saturation_threshold, in
 
 ColorHue::Params::Params()
     : saturation_threshold(50), feature_saturation_threshold(70), min_feature_area(0.1f),
-      value_threshold(40),
-      num_features(63), blur_size(3), mask_erosion(2)
+      value_threshold(40), num_features(63), blur_size(3), mask_erosion(2)
 {
 }
 

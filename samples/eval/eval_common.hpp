@@ -94,9 +94,10 @@ bool regimeSampler(const std::string& regime, fm::ViewSampler::Params& p);
 N poses per object". */
 std::string samplingText(const fm::ViewSampler::Params& p);
 
-/** DetectorParams with the experiment flags applied. */
-//! the ColorHue parameters of the run's templates (--hue_feature_saturation)
+/** ColorHue's parameters with the experiment flags applied (--hue_feature_saturation,
+--hue_feature_area). */
 fm::ColorHue::Params hueParams(const EvalOptions& opt);
+/** DetectorParams with the experiment flags applied. */
 fm::DetectorParams experimentParams(const EvalOptions& opt,
                                     fm::DetectorParams p = fm::DetectorParams());
 

@@ -103,7 +103,7 @@ static std::string cacheKey(const EvalOptions& opt, const ObjectInfo& obj,
     if (std::find(setup.modalities.begin(), setup.modalities.end(), std::string("ColorHue"))
         != setup.modalities.end())
     {
-        fs << "hue" << "{"; // its template features (feature_saturation_threshold 70 since v1)
+        fs << "hue" << "{"; // they choose the templates' hue features
         hueParams(opt).write(fs);
         fs << "}";
     }
