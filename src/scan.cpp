@@ -51,7 +51,7 @@ struct ScanContext
 };
 
 // Outcome of a location: candidates, or the reason it left (rejection map codes).
-// NOT_SCANNED: no group left to traverse (all searched exhaustively): -1 in the map, not counted.
+// NOT_SCANNED: no group to traverse (no asked-for class): -1 in the map, not counted as rejected.
 // A group's own verdict on a location is ACCEPTED, FLAT, its deepest rejecting forest depth, or
 // NOT_VISITED (not traversed there).
 enum { ACCEPTED = -1, FLAT = -2, DEPTH_RANGE = -3, NOT_SCANNED = -4, NOT_VISITED = -5 };
@@ -223,13 +223,20 @@ static void rowTests(const ScanContext& ctx, int r, int W, ScanScratch& s)
 // A location's code from its groups' verdicts: ACCEPTED when one group accepts it, else the
 // deepest forest depth that rejected it, else FLAT when some visited group found its window
 // flat, else DEPTH_RANGE (every visited group out of its depth range); NOT_SCANNED when no group
-// was visited.
-static int locationCode(const short* verdict, int groups)
+// was visited. A group searched exhaustively (inactive) scores every location whose cell reaches
+// its depth range (the exhaustive search's own test, per template there): it accepts those, so
+// a location counts as rejected only where no group validates it.
+static int locationCode(const ScanContext& ctx, const short* verdict, int c, int r)
 {
+    const int groups = (int)ctx.groups.size();
     int flat = 0, deepest = -1, visited = 0;
     for (int g = 0; g < groups; ++g)
     {
-        const int v = verdict[g];
+        int v = verdict[g];
+        if (v == NOT_VISITED && !ctx.active[g])
+            v = ctx.depth_cells && !ctx.depth_cells->reaches(c * ctx.S / ctx.T, r * ctx.S / ctx.T,
+                                                             ctx.depth_span[g])
+                ? DEPTH_RANGE : ACCEPTED;
         if (v == NOT_VISITED)
             continue;
         if (v == ACCEPTED)
@@ -374,7 +381,7 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
     for (int c = 0; c < W; ++c)
     {
         visitGroups(ctx, c, r, W, s);
-        const int code = locationCode(&s.verdict[0], NG);
+        const int code = locationCode(ctx, &s.verdict[0], c, r);
         if (sample)
             std::copy(s.verdict.begin(), s.verdict.begin() + NG, &out.verdicts[(size_t)c * NG]);
         else
@@ -454,7 +461,7 @@ static void finishSampleRows(const ScanContext& ctx, const std::vector<int>& sam
             for (int g = 0; g < NG; ++g)
                 if (!ctx.active[g])
                     v[g] = NOT_VISITED;
-            countCode(locationCode(v, NG), c, r, map, ro.counters);
+            countCode(locationCode(ctx, v, c, r), c, r, map, ro.counters);
         }
         size_t k = 0, j = 0, kept_locations = 0;
         for (size_t l = 0; l < ro.location.size(); ++l)

@@ -43,8 +43,9 @@ the depth-range test runs per group when the scene has depth cells
 (DetectorParams::depth_range_tolerance >= 0).
 With DetectorParams::exhaustive_ratio > 0, every 8th row of locations goes first through every
 group; the groups whose forest let more (location, candidate) pairs through there than the ratio
-allows (extrapolated to the frame) are marked `exhaustive` and left out of the other rows (their
-locations are neither rejected nor validated by them, in the sample rows as in the others). A
+allows (extrapolated to the frame) are marked `exhaustive` and left out of the other rows (they
+give no candidates, in the sample rows as in the others; a location within such a group's depth
+range is not counted as rejected, since the exhaustive search scores it). A
 group leaves the sample as soon as the rows scanned so far pass its limit. 0: every group
 exhaustive, no forest. */
 void scanLocations(const SearchIndex& index, const ScenePyramid& scene,

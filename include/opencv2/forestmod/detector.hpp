@@ -136,13 +136,16 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     CV_PROP double t_verify_ms;
     CV_PROP int64 verified;          //!< hypotheses scored by the verification stage
     CV_PROP int64 locations;         //!< locations visited on the coarsest level
-    CV_PROP int64 rejected;          //!< locations rejected before validation (all causes)
+    /** locations rejected before validation (all causes): by every search group on the forest
+    path, and out of the depth range of every group searched exhaustively (such a group scores
+    every other location, DetectorParams::exhaustive_ratio) */
+    CV_PROP int64 rejected;
     //! of which: window nearly without labels in every search group
     CV_PROP int64 rejected_flat;
     CV_PROP int64 rejected_depth_range; //!< of which: scene depth outside the templates' range
-    /** locations that reached validation with candidates (the locations of a search group
-    searched exhaustively, DetectorParams::exhaustive_ratio, are neither rejected nor validated
-    by it) */
+    /** locations that reached validation with candidates from the forest path (the groups
+    searched exhaustively, DetectorParams::exhaustive_ratio, score their locations without
+    candidates; those locations are not counted here, nor as rejected) */
     CV_PROP int64 validated;
     CV_PROP int64 candidates;        //!< candidate templates validated, summed over locations
     CV_PROP std::vector<int64> rejected_at_depth; //!< rejected locations per forest depth
