@@ -223,9 +223,9 @@ static void rowTests(const ScanContext& ctx, int r, int W, ScanScratch& s)
 // A location's code from its groups' verdicts: ACCEPTED when one group accepts it, else the
 // deepest forest depth that rejected it, else FLAT when some visited group found its window
 // flat, else DEPTH_RANGE (every visited group out of its depth range); NOT_SCANNED when no group
-// was visited. A group searched exhaustively (inactive) scores every location whose cell reaches
-// its depth range (the exhaustive search's own test, per template there): it accepts those, so
-// a location counts as rejected only where no group validates it.
+// was visited. A group searched exhaustively (inactive) scores the locations whose cell reaches
+// its depth range (the forest path's test for the group; the exhaustive search makes it per
+// template): it accepts those, so a location counts as rejected only where no group scores it.
 static int locationCode(const ScanContext& ctx, const short* verdict, int c, int r)
 {
     const int groups = (int)ctx.groups.size();
@@ -255,11 +255,13 @@ static int locationCode(const ScanContext& ctx, const short* verdict, int c, int
 // Every active search group (not cut in this row): out of its depth range, a flat window, or its
 // forest (every tree);
 // each group's verdict goes to s.verdict, the candidates of the accepting groups are the union
-// of their accepting trees' leaves (as index rows, marked in s.bits).
-static void visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch& s)
+// of their accepting trees' leaves (as index rows, marked in s.bits). Returns whether one group
+// accepted (marked rows).
+static bool visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch& s)
 {
     const ScenePyramid& scene = *ctx.scene;
     const int NG = (int)ctx.groups.size();
+    bool marked = false;
     for (int gi = 0; gi < NG; ++gi)
     {
         short& verdict = s.verdict[gi];
@@ -318,6 +320,7 @@ static void visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch
             continue;
         }
         verdict = ACCEPTED;
+        marked = true;
         const int* rows = &grp.rows[0];
         uint64* bits = &s.bits[0];
         for (size_t k = 0; k < s.leaves.size(); ++k)
@@ -330,6 +333,7 @@ static void visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch
             }
         }
     }
+    return marked;
 }
 
 // Counts a location's code (and writes it into the rejection map when asked).
@@ -380,13 +384,12 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
     rowTests(ctx, r, W, s);
     for (int c = 0; c < W; ++c)
     {
-        visitGroups(ctx, c, r, W, s);
-        const int code = locationCode(ctx, &s.verdict[0], c, r);
+        const bool marked = visitGroups(ctx, c, r, W, s);
         if (sample)
             std::copy(s.verdict.begin(), s.verdict.begin() + NG, &out.verdicts[(size_t)c * NG]);
         else
-            countCode(code, c, r, map, out.counters);
-        if (code != ACCEPTED)
+            countCode(locationCode(ctx, &s.verdict[0], c, r), c, r, map, out.counters);
+        if (!marked) // no group on the forest path accepted it: no candidates, no bit set
             continue;
         // the marked rows, ascending; the bit set is cleared for the next location
         int n = 0;
