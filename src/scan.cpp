@@ -220,6 +220,14 @@ static void rowTests(const ScanContext& ctx, int r, int W, ScanScratch& s)
     }
 }
 
+// Whether the scene depth around location (c, r) stays out of group g's widened depth range
+// (false without a depth-range test).
+static inline bool outOfDepthRange(const ScanContext& ctx, int g, int c, int r)
+{
+    return ctx.depth_cells && !ctx.depth_cells->reaches(c * ctx.S / ctx.T, r * ctx.S / ctx.T,
+                                                        ctx.depth_span[g]);
+}
+
 // A location's code from its groups' verdicts: ACCEPTED when one group accepts it, else the
 // deepest forest depth that rejected it, else FLAT when some visited group found its window
 // flat, else DEPTH_RANGE (every visited group out of its depth range); NOT_SCANNED when no group
@@ -234,9 +242,7 @@ static int locationCode(const ScanContext& ctx, const short* verdict, int c, int
     {
         int v = verdict[g];
         if (v == NOT_VISITED && !ctx.active[g])
-            v = ctx.depth_cells && !ctx.depth_cells->reaches(c * ctx.S / ctx.T, r * ctx.S / ctx.T,
-                                                             ctx.depth_span[g])
-                ? DEPTH_RANGE : ACCEPTED;
+            v = outOfDepthRange(ctx, g, c, r) ? DEPTH_RANGE : ACCEPTED;
         if (v == NOT_VISITED)
             continue;
         if (v == ACCEPTED)
@@ -269,8 +275,7 @@ static bool visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch
         if (!ctx.active[gi] || s.cut[gi])
             continue;
         const SearchGroup& grp = *ctx.groups[gi];
-        if (ctx.depth_cells && !ctx.depth_cells->reaches(c * ctx.S / ctx.T, r * ctx.S / ctx.T,
-                                                         ctx.depth_span[gi]))
+        if (outOfDepthRange(ctx, gi, c, r))
         {
             verdict = DEPTH_RANGE;
             continue;
