@@ -61,6 +61,8 @@ static const char* keys
       "{step           | -1      | location_step (0: T / 2) }"
       "{min_labels     | -1      | min_window_labels }"
       "{dominant       | -1      | dominant_window }"
+      "{eratio         | -2      | exhaustive_ratio (-1: the forest path in every group, -2: the "
+      "default) }"
       "{depth_tol      | -2      | depth_range_tolerance (-1: off, -2: the default) }"
       "{gratio         | -1      | group_size_ratio (0: no size limit) }"
       "{leaf_samples   | -1      | auto_depth_leaf_samples (0: the paper's depth) }"
@@ -155,6 +157,8 @@ int main(int argc, char** argv)
     BENCH_SET("dominant", dominant_window, int)
     if (parser.get<double>("depth_tol") > -2)
         p.depth_range_tolerance = (float)parser.get<double>("depth_tol");
+    if (parser.get<double>("eratio") > -2)
+        p.exhaustive_ratio = (float)parser.get<double>("eratio");
     BENCH_SET("gratio", group_size_ratio, float)
     BENCH_SET("leaf_samples", auto_depth_leaf_samples, float)
     BENCH_SET("k", max_survivors, int)
