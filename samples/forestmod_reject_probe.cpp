@@ -40,6 +40,7 @@ static const char* keys
       "library's) }"
       "{fuzzy_margin    |          | ForestParams::fuzzy_margin, 0: crisp splits (default: the "
       "library's) }"
+      "{rejector_noise  |          | ForestParams::rejector_noise (default: the library's) }"
       "{group_size_ratio |         | DetectorParams::group_size_ratio (default: the library's) }"
       "{threshold       | 80       | similarity threshold (percent) }"
       "{absence         |          | print P(0) of the label planes on the object / background }"
@@ -203,6 +204,8 @@ static fm::DetectorParams probeParams(const cv::CommandLineParser& parser, bool 
         p.max_survivors = parser.get<int>("max_survivors");
     if (parser.has("breadth_first"))
         p.breadth_first = parser.get<int>("breadth_first") != 0;
+    if (parser.has("rejector_noise"))
+        p.forest.rejector_noise = parser.get<float>("rejector_noise");
     if (parser.has("group_size_ratio"))
         p.group_size_ratio = parser.get<float>("group_size_ratio");
     if (parser.has("fuzzy_margin"))
