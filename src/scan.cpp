@@ -393,7 +393,8 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
         if (sample)
             std::copy(s.verdict.begin(), s.verdict.begin() + NG, &out.verdicts[(size_t)c * NG]);
         else
-            countCode(locationCode(ctx, &s.verdict[0], c, r), c, r, map, out.counters);
+            countCode(marked ? ACCEPTED : locationCode(ctx, &s.verdict[0], c, r), c, r, map,
+                      out.counters);
         if (!marked) // no group on the forest path accepted it: no candidates, no bit set
             continue;
         // the marked rows, ascending; the bit set is cleared for the next location
