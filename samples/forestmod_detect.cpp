@@ -4,7 +4,9 @@
 
 // A forestmod model + a colour image (and optional depth) -> matches with 6-DoF poses on stdout,
 // and an overlay PNG (box, projected model outline, axes, class and score). With a BOP dataset
-// frame, the ground truth is read too and the pose errors are printed.
+// frame, the ground truth is read too and the pose errors are printed. With --linemod,
+// cv::linemod::Detector matches the frame with the same templates: both match() times and its
+// best match per class.
 
 #include <opencv2/core.hpp>
 #include <opencv2/core/utils/filesystem.hpp>
@@ -21,6 +23,7 @@
 
 using cv::forestmod::samples::splitList;
 using cv::forestmod::samples::lmoIntrinsics;
+using cv::forestmod::samples::linemodCopy;
 
 static const char* keys
     = "{help h usage ?  |      | print this message }"
@@ -41,6 +44,10 @@ static const char* keys
       "(PoseParams::rgb_hypotheses) }"
       "{rgb_keep        | 4    | without depth: of those, refined past the first pass "
       "(PoseParams::rgb_keep) }"
+      "{linemod         |      | also match the frame with cv::linemod::Detector and the same "
+      "templates: both match() times (1 thread, best of --repeat calls) and its best match per "
+      "class }"
+      "{repeat          | 3    | --linemod: match() calls per detector }"
       "{out             |      | overlay PNG }"
       "{force           |      | overwrite the overlay }";
 
@@ -53,6 +60,60 @@ static int objectId(const std::string& class_id)
     if (class_id.compare(0, 4, "obj_") != 0 && p != 0)
         return -1;
     return atoi(class_id.c_str() + p);
+}
+
+// --linemod: match() of the frame by both detectors with the same templates and 1 thread (the
+// best of `repeat` calls each), and cv::linemod's best match per class against forestmod's first
+// detection of that class (`detections`, the verification's order).
+static void compareWithLinemod(const cv::forestmod::Detector& detector,
+                               const std::vector<cv::Mat>& sources, float threshold, int repeat,
+                               const std::vector<cv::forestmod::PoseMatch>& detections)
+{
+    cv::Ptr<cv::linemod::Detector> lm = linemodCopy(detector);
+    std::vector<cv::linemod::Match> fm_matches, lm_matches;
+    double t_fm = 1e30, t_lm = 1e30;
+    const int threads = cv::getNumThreads();
+    cv::setNumThreads(1);
+    for (int r = 0; r < repeat; ++r)
+    {
+        cv::forestmod::DetectionStats stats;
+        detector.match(sources, threshold, fm_matches, std::vector<cv::String>(), cv::noArray(),
+                       std::vector<cv::Mat>(), &stats);
+        t_fm = std::min(t_fm, stats.t_total_ms);
+        cv::TickMeter tm;
+        tm.start();
+        lm->match(sources, threshold, lm_matches);
+        tm.stop();
+        t_lm = std::min(t_lm, tm.getTimeMilli());
+    }
+    cv::setNumThreads(threads);
+    printf("match(), 1 thread, best of %d calls, %d templates: forestmod %.1f ms (%d matches), cv::linemod "
+           "%.1f ms (%d matches): %.1fx\n", repeat, lm->numTemplates(), t_fm,
+           (int)fm_matches.size(), t_lm, (int)lm_matches.size(), t_lm / t_fm);
+    const std::vector<cv::String> classes = detector.classIds();
+    for (size_t c = 0; c < classes.size(); ++c)
+        for (size_t i = 0; i < lm_matches.size(); ++i) // best first
+        {
+            const cv::linemod::Match& m = lm_matches[i];
+            if (m.class_id != classes[c])
+                continue;
+            const std::vector<cv::linemod::Template>& t = lm->getTemplates(m.class_id,
+                                                                           m.template_id);
+            const cv::Rect box(m.x, m.y, t[0].width, t[0].height);
+            printf("cv::linemod's best match: %s score %.1f box (%d,%d %dx%d) template %d",
+                   m.class_id.c_str(), m.similarity, box.x, box.y, box.width, box.height,
+                   m.template_id);
+            for (size_t d = 0; d < detections.size(); ++d)
+                if (detections[d].class_id == m.class_id)
+                {
+                    printf("; box IoU %.2f with forestmod's first detection",
+                           cv::forestmod::boxIoU(cv::Rect2d(box),
+                                                 cv::Rect2d(detections[d].box)));
+                    break;
+                }
+            printf("\n");
+            break;
+        }
 }
 
 static void drawPose(cv::Mat& img, const cv::forestmod::PoseMatch& m, const cv::Matx33d& K,
@@ -114,6 +175,8 @@ int main(int argc, char** argv)
     const int top = parser.get<int>("top");
     const bool verify = parser.get<bool>("verify");
     const int verify_k = parser.get<int>("verify_k");
+    const bool with_linemod = parser.has("linemod");
+    const int repeat = parser.get<int>("repeat");
     cv::forestmod::PoseParams pose_params;
     pose_params.rgb_hypotheses = parser.get<int>("rgb_hypotheses");
     pose_params.rgb_keep = parser.get<int>("rgb_keep");
@@ -129,6 +192,11 @@ int main(int argc, char** argv)
     {
         std::cerr << "forestmod_detect: --model and --color (or --dataset with --frame) are "
                      "required (see --help)\n";
+        return 1;
+    }
+    if (repeat < 1)
+    {
+        std::cerr << "forestmod_detect: --repeat must be at least 1\n";
         return 1;
     }
     if (!cv::utils::fs::exists(model))
@@ -245,6 +313,14 @@ int main(int argc, char** argv)
             else
                 sources.push_back(color);
         }
+        if (!detector.isTrained()) // else the first match() would train, inside its time
+        {
+            cv::TickMeter tm;
+            tm.start();
+            detector.train();
+            tm.stop();
+            printf("forests trained in %.1f s (the model file has none)\n", tm.getTimeSec());
+        }
         cv::forestmod::DetectionStats stats;
         std::vector<cv::forestmod::PoseMatch> matches;
         pose_params.verification.enabled = verify;
@@ -258,6 +334,8 @@ int main(int argc, char** argv)
         if (verify)
             printf("verification: %lld hypotheses in %.1f ms\n", (long long)stats.verified,
                    stats.t_verify_ms);
+        if (with_linemod)
+            compareWithLinemod(detector, sources, threshold, repeat, matches);
 
         cv::Mat overlay = color.clone();
         cv::Ptr<cv::forestmod::Renderer> renderer;

@@ -3,8 +3,9 @@
 // of this distribution and at http://opencv.org/license.html
 
 // Small helpers shared by the samples, the tests and the perf tests (header only): lists,
-// LM-O intrinsics, rotations, and the samples' check of an output path (nothing on disk is
-// overwritten without --force, a dangling symbolic link is never written through).
+// LM-O intrinsics, rotations, the samples' check of an output path (nothing on disk is
+// overwritten without --force, a dangling symbolic link is never written through), and a
+// cv::linemod::Detector with a forestmod::Detector's templates.
 
 #ifndef OPENCV_FORESTMOD_SAMPLE_UTILS_HPP
 #define OPENCV_FORESTMOD_SAMPLE_UTILS_HPP
@@ -12,6 +13,7 @@
 #include "opencv2/core.hpp"
 #include "opencv2/calib3d.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
+#include "opencv2/forestmod/detector.hpp"
 
 #include <iostream>
 #include <sstream>
@@ -96,6 +98,24 @@ inline bool refuseOutput(const char* tool, const std::string& path, bool force)
         return true;
     }
     return false;
+}
+
+/** cv::linemod::Detector with exactly the templates (and modality objects) of a forestmod one,
+for comparisons on the same templates. */
+inline Ptr<cv::linemod::Detector> linemodCopy(const Detector& det)
+{
+    std::vector<int> T;
+    for (int l = 0; l < det.pyramidLevels(); ++l)
+        T.push_back(det.getT(l));
+    Ptr<cv::linemod::Detector> lm = makePtr<cv::linemod::Detector>(det.getModalities(), T);
+    const std::vector<String> ids = det.classIds();
+    for (size_t c = 0; c < ids.size(); ++c)
+        for (int i = 0; i < det.numTemplates(ids[c]); ++i)
+        {
+            const int id = lm->addSyntheticTemplate(det.getTemplates(ids[c], i), ids[c]);
+            CV_Assert(id == i);
+        }
+    return lm;
 }
 
 } // namespace samples

@@ -219,8 +219,7 @@ cv::Ptr<fm::Detector> objectTemplates(const EvalOptions& opt, ObjectInfo& obj,
                                       const TemplateSetup& setup, Progress& progress,
                                       double& render_s);
 
-/** cv::linemod::Detector with exactly the templates (and modality objects) of a forestmod one. */
-cv::Ptr<cv::linemod::Detector> linemodCopy(const fm::Detector& det);
+using cv::forestmod::samples::linemodCopy;
 
 /** Loads the cached untrained templates of several objects into one detector. */
 cv::Ptr<fm::Detector> multiObjectDetector(const EvalOptions& opt,

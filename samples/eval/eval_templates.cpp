@@ -214,22 +214,6 @@ cv::Ptr<fm::Detector> objectTemplates(const EvalOptions& opt, ObjectInfo& obj,
     return det;
 }
 
-cv::Ptr<cv::linemod::Detector> linemodCopy(const fm::Detector& det)
-{
-    std::vector<int> T;
-    for (int l = 0; l < det.pyramidLevels(); ++l)
-        T.push_back(det.getT(l));
-    cv::Ptr<cv::linemod::Detector> lm = cv::makePtr<cv::linemod::Detector>(det.getModalities(), T);
-    const std::vector<cv::String> ids = det.classIds();
-    for (size_t c = 0; c < ids.size(); ++c)
-        for (int i = 0; i < det.numTemplates(ids[c]); ++i)
-        {
-            const int id = lm->addSyntheticTemplate(det.getTemplates(ids[c], i), ids[c]);
-            CV_Assert(id == i);
-        }
-    return lm;
-}
-
 cv::Ptr<fm::Detector> multiObjectDetector(const EvalOptions& opt,
                                           const std::vector<std::string>& modalities,
                                           const std::vector<ObjectInfo*>& objects)
