@@ -30,9 +30,11 @@ static const char* keys
       "{model           |      | model file written by forestmod_train }"
       "{color           |      | colour image (BGR) }"
       "{depth           |      | optional 16-bit depth image (mm) }"
-      "{K               |      | fx,fy,cx,cy of the images (default: LM-O's Kinect, or the dataset's) }"
+      "{K               |      | fx,fy,cx,cy of the images (default: LM-O's Kinect, or the "
+      "dataset's) }"
       "{meshes          |      | class=mesh,... for poses refined with depth and for drawing }"
-      "{dataset         |      | BOP dataset root: read the frame, K, meshes and ground truth from it }"
+      "{dataset         |      | BOP dataset root: read the frame, K, meshes and ground truth "
+      "from it }"
       "{scene           | 2    | dataset scene id }"
       "{frame           | -1   | dataset image id }"
       "{threshold       | 80   | LINEMOD similarity threshold (percent) }"
@@ -87,12 +89,14 @@ static void compareWithLinemod(const cv::forestmod::Detector& detector,
         t_lm = std::min(t_lm, tm.getTimeMilli());
     }
     cv::setNumThreads(threads);
-    printf("match(), 1 thread, best of %d calls, %d templates: forestmod %.1f ms (%d matches), cv::linemod "
-           "%.1f ms (%d matches): %.1fx\n", repeat, lm->numTemplates(), t_fm,
+    printf("match(), 1 thread, best of %d calls, %d templates: forestmod %.1f ms (%d matches), "
+           "cv::linemod %.1f ms (%d matches): %.1fx\n", repeat, lm->numTemplates(), t_fm,
            (int)fm_matches.size(), t_lm, (int)lm_matches.size(), t_lm / t_fm);
     const std::vector<cv::String> classes = detector.classIds();
     for (size_t c = 0; c < classes.size(); ++c)
-        for (size_t i = 0; i < lm_matches.size(); ++i) // best first
+    {
+        bool found = false;
+        for (size_t i = 0; i < lm_matches.size() && !found; ++i) // best first
         {
             const cv::linemod::Match& m = lm_matches[i];
             if (m.class_id != classes[c])
@@ -112,8 +116,11 @@ static void compareWithLinemod(const cv::forestmod::Detector& detector,
                     break;
                 }
             printf("\n");
-            break;
+            found = true;
         }
+        if (!found)
+            printf("cv::linemod's best match: %s none\n", classes[c].c_str());
+    }
 }
 
 static void drawPose(cv::Mat& img, const cv::forestmod::PoseMatch& m, const cv::Matx33d& K,
@@ -361,7 +368,9 @@ int main(int argc, char** argv)
                 cv::Vec3d rvec;
                 cv::Rodrigues(m.R, rvec);
                 printf(" pose: rvec (%.3f %.3f %.3f) t (%.1f %.1f %.1f) mm%s", rvec[0], rvec[1],
-                       rvec[2], m.t[0], m.t[1], m.t[2], m.refined ? (depth.empty() ? " [refined: edge alignment]" : " [refined by ICP]") : "");
+                       rvec[2], m.t[0], m.t[1], m.t[2],
+                       !m.refined ? ""
+                       : depth.empty() ? " [refined: edge alignment]" : " [refined by ICP]");
                 if (m.depth_agreement >= 0)
                     printf(" depth check %.2f", m.depth_agreement);
             }
