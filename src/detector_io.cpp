@@ -443,10 +443,10 @@ void Detector::writeClasses(const String& format) const
 void Detector::save(const String& filename, bool overwrite) const
 {
     detail::checkOutputFile(filename, overwrite, "forestmod::Detector::save");
-    FileStorage fs(filename, FileStorage::WRITE | FileStorage::BASE64);
-    if (!fs.isOpened())
-        CV_Error_(Error::StsError, ("forestmod::Detector::save: cannot write '%s'",
-                                    filename.c_str()));
+    // written in memory first: a model longer than load() reads is refused, not written
+    FileStorage fs(filename, FileStorage::WRITE | FileStorage::MEMORY | FileStorage::BASE64
+                                 | detail::modelFileFormat(filename));
+    CV_Assert(fs.isOpened());
     fs << "forestmod_model_version" << MODEL_FORMAT_VERSION;
     fs << "detector" << "{";
     write(fs);
@@ -478,6 +478,7 @@ void Detector::save(const String& filename, bool overwrite) const
         }
         fs << "]";
     }
+    detail::writeModelText(filename, fs.releaseAndGetString());
 }
 
 static void openModel(FileStorage& fs, const String& filename)

@@ -82,7 +82,7 @@ void checkDetectorParams(const DetectorParams& p)
              "DetectorParams: forest.max_depth must be in [0, 30] (0: automatic)");
 }
 
-static const size_t MAX_MODEL_BYTES = size_t(1) << 30;
+static const size_t MAX_MODEL_BYTES = MAX_MODEL_TEXT_BYTES;
 
 static int base64Value(char c)
 {
@@ -393,6 +393,62 @@ String readModelText(const String& filename)
     checkBrackets(text, filename);
     checkYamlIndentation(text, filename);
     return text;
+}
+
+static bool endsWith(const String& s, const char* suffix)
+{
+    const size_t n = strlen(suffix);
+    return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
+}
+
+int modelFileFormat(const String& filename)
+{
+    const String name = endsWith(filename, ".gz") ? filename.substr(0, filename.size() - 3)
+                                                  : filename;
+    return endsWith(name, ".json") ? FileStorage::FORMAT_JSON
+        : endsWith(name, ".xml") ? FileStorage::FORMAT_XML : FileStorage::FORMAT_YAML;
+}
+
+void writeModelText(const String& filename, const String& text, size_t max_bytes)
+{
+    if (text.size() > max_bytes)
+        CV_Error_(Error::StsOutOfRange,
+                  ("forestmod::Detector::save: the model holds %.1f MiB of text, more than the "
+                   "%.1f MiB that load() reads; '%s' is not written (most of a large model is its "
+                   "forests: fewer trees, DetectorParams::forest.num_trees, or fewer classes in "
+                   "one model)", text.size() / 1048576.0, max_bytes / 1048576.0,
+                   filename.c_str()));
+    bool ok = false;
+    if (endsWith(filename, ".gz"))
+    {
+#ifdef HAVE_FORESTMOD_ZLIB
+        gzFile f = gzopen(filename.c_str(), "wb");
+        if (f)
+        {
+            ok = true;
+            for (size_t at = 0; ok && at < text.size(); at += 1 << 20)
+            {
+                const unsigned n = (unsigned)std::min(text.size() - at, (size_t)1 << 20);
+                ok = gzwrite(f, text.data() + at, n) == (int)n;
+            }
+            ok = gzclose(f) == Z_OK && ok;
+        }
+#else
+        CV_Error_(Error::StsNotImplemented, ("forestmod::Detector::save: '%s': this build has no "
+                                             "zlib to compress it (save as .yml or .json)",
+                                             filename.c_str()));
+#endif
+    }
+    else
+    {
+        std::ofstream f(filename.c_str(), std::ios::binary);
+        f.write(text.data(), (std::streamsize)text.size());
+        f.close();
+        ok = !f.fail();
+    }
+    if (!ok)
+        CV_Error_(Error::StsError, ("forestmod::Detector::save: cannot write '%s'",
+                                    filename.c_str()));
 }
 
 void readMat(const FileNode& fn, Mat& m, int64 max_elements, const String& where)

@@ -40,8 +40,21 @@ checkDetectorParams, so that a model file's forest parameters are refused on loa
 first match() trains (defined in forest.cpp). */
 void checkForestParams(const ForestParams& p);
 
+/** The most text load() reads from a model file (1 GiB, decompressed), and save() writes. */
+const size_t MAX_MODEL_TEXT_BYTES = size_t(1) << 30;
+
+/** cv::FileStorage's format flag of a model file name: FORMAT_JSON for .json, FORMAT_XML for .xml,
+else FORMAT_YAML; a trailing ".gz" (compression) is left out. */
+int modelFileFormat(const String& filename);
+
+/** Writes a model's text (cv::FileStorage::MEMORY) to `filename`, gzip-compressed when the name
+ends with ".gz". Raises, writing nothing, when the text is longer than max_bytes (the default:
+what load() reads; smaller in tests). */
+CV_EXPORTS void writeModelText(const String& filename, const String& text,
+                               size_t max_bytes = MAX_MODEL_TEXT_BYTES);
+
 /** The text of a model file (a .gz file decompressed), for cv::FileStorage::MEMORY: at most
-1 GiB, and every base64 block (YAML "!!binary |", JSON "$base64$", XML type_id="binary")
+MAX_MODEL_TEXT_BYTES, and every base64 block (YAML "!!binary |", JSON "$base64$", XML type_id="binary")
 starting with a data type header: OpenCV 4.6's base64 reader loops forever on a block whose
 header is empty; in YAML and JSON text every bracket closed by its own and none left open (its
 YAML parser loops forever on a stray ']' followed by an unclosed '[', found by fuzzing). */

@@ -3,6 +3,7 @@
 // of this distribution and at http://opencv.org/license.html
 
 #include "test_precomp.hpp"
+#include "../src/model_check.hpp"
 
 namespace opencv_test { namespace {
 
@@ -443,6 +444,33 @@ TEST(Forestmod_Detector, model_file_roundtrip_and_corrupt_files)
     const std::string file = cv::tempfile(".yml.gz");
     det.save(file);
     EXPECT_THROW(det.save(file), cv::Exception); // no silent overwrite
+    {
+        std::ifstream f(file.c_str(), std::ios::binary); // gzip's magic bytes
+        EXPECT_EQ(0x1f, f.get());
+        EXPECT_EQ(0x8b, f.get());
+    }
+    // the other formats: plain YAML and JSON text, read back alike
+    const char* const others[] = { ".yml", ".json" };
+    for (int k = 0; k < 2; ++k)
+    {
+        const std::string other = cv::tempfile(others[k]);
+        det.save(other);
+        std::ifstream f(other.c_str());
+        EXPECT_EQ(k == 0 ? '%' : '{', f.get()) << others[k];
+        cv::forestmod::Detector again;
+        again.load(other);
+        EXPECT_EQ(det.numTemplates(), again.numTemplates()) << others[k];
+        EXPECT_TRUE(again.isTrained()) << others[k];
+        std::remove(other.c_str());
+    }
+    // a model longer than load() reads is refused, and nothing is written
+    const std::string too_long = cv::tempfile(".yml.gz");
+    EXPECT_THROW(cv::forestmod::detail::writeModelText(too_long, std::string(100, 'x'), 99),
+                 cv::Exception);
+    EXPECT_FALSE(utils::fs::exists(too_long));
+    cv::forestmod::detail::writeModelText(too_long, std::string(100, 'x'), 100);
+    EXPECT_TRUE(utils::fs::exists(too_long));
+    std::remove(too_long.c_str());
     cv::forestmod::Detector back;
     back.load(file);
     EXPECT_EQ(det.numTemplates(), back.numTemplates());
