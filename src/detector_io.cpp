@@ -452,8 +452,8 @@ void Detector::save(const String& filename, bool overwrite) const
     write(fs);
     fs << "}";
     fs << "classes" << "[";
-    for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
-         it != class_templates.end(); ++it)
+    typedef std::map<String, std::vector<TemplatePyramid> >::const_iterator ClassIt;
+    for (ClassIt it = class_templates.begin(); it != class_templates.end(); ++it)
     {
         fs << "{";
         writeClass(it->first, fs);

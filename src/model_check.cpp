@@ -8,6 +8,7 @@
 #include "model_check.hpp"
 
 #include "opencv2/core/utils/filesystem.hpp"
+#include "opencv2/core/utils/logger.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -81,8 +82,6 @@ void checkDetectorParams(const DetectorParams& p)
     CV_Check(p.forest.max_depth, p.forest.max_depth >= 0 && p.forest.max_depth <= 30,
              "DetectorParams: forest.max_depth must be in [0, 30] (0: automatic)");
 }
-
-static const size_t MAX_MODEL_BYTES = MAX_MODEL_TEXT_BYTES;
 
 static int base64Value(char c)
 {
@@ -362,7 +361,7 @@ String readModelText(const String& filename)
         if (got == 0)
             break;
         text.append(&buf[0], (size_t)got);
-        if (text.size() > MAX_MODEL_BYTES)
+        if (text.size() > MAX_MODEL_TEXT_BYTES)
         {
             gzclose(f);
             CV_Error_(Error::StsOutOfRange, ("forestmod::Detector::load: '%s' holds more than "
@@ -378,7 +377,7 @@ String readModelText(const String& filename)
     std::ostringstream ss;
     ss << f.rdbuf();
     text = ss.str();
-    if (text.size() > MAX_MODEL_BYTES)
+    if (text.size() > MAX_MODEL_TEXT_BYTES)
         CV_Error_(Error::StsOutOfRange, ("forestmod::Detector::load: '%s' holds more than 1 GiB",
                                          filename.c_str()));
     if (text.size() >= 2 && (uchar)text[0] == 0x1f && (uchar)text[1] == 0x8b)
@@ -419,7 +418,17 @@ void writeModelText(const String& filename, const String& text, size_t max_bytes
                    "one model)", text.size() / 1048576.0, max_bytes / 1048576.0,
                    filename.c_str()));
     bool ok = false;
+#ifdef HAVE_FORESTMOD_ZLIB
+    const bool compress = endsWith(filename, ".gz");
+#else
+    // without zlib the text is written as it is: load() reads a plain file whatever its name
+    // (with zlib too: gzread passes plain files through)
+    const bool compress = false;
     if (endsWith(filename, ".gz"))
+        CV_LOG_WARNING(NULL, "forestmod::Detector::save: this build has no zlib; '"
+                                 << filename << "' is written uncompressed");
+#endif
+    if (compress)
     {
 #ifdef HAVE_FORESTMOD_ZLIB
         gzFile f = gzopen(filename.c_str(), "wb");
@@ -433,10 +442,6 @@ void writeModelText(const String& filename, const String& text, size_t max_bytes
             }
             ok = gzclose(f) == Z_OK && ok;
         }
-#else
-        CV_Error_(Error::StsNotImplemented, ("forestmod::Detector::save: '%s': this build has no "
-                                             "zlib to compress it (save as .yml or .json)",
-                                             filename.c_str()));
 #endif
     }
     else

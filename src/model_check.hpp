@@ -54,10 +54,11 @@ CV_EXPORTS void writeModelText(const String& filename, const String& text,
                                size_t max_bytes = MAX_MODEL_TEXT_BYTES);
 
 /** The text of a model file (a .gz file decompressed), for cv::FileStorage::MEMORY: at most
-MAX_MODEL_TEXT_BYTES, and every base64 block (YAML "!!binary |", JSON "$base64$", XML type_id="binary")
-starting with a data type header: OpenCV 4.6's base64 reader loops forever on a block whose
-header is empty; in YAML and JSON text every bracket closed by its own and none left open (its
-YAML parser loops forever on a stray ']' followed by an unclosed '[', found by fuzzing). */
+MAX_MODEL_TEXT_BYTES, and every base64 block (YAML "!!binary |", JSON "$base64$", XML
+type_id="binary") starting with a data type header: OpenCV 4.6's base64 reader loops forever on
+a block whose header is empty; in YAML and JSON text every bracket closed by its own and none
+left open (its YAML parser loops forever on a stray ']' followed by an unclosed '[', found by
+fuzzing). */
 String readModelText(const String& filename);
 
 /** cv::read of a matrix node, after checking that it is a 2-D matrix ("opencv-matrix") of at
