@@ -40,7 +40,8 @@ checkDetectorParams, so that a model file's forest parameters are refused on loa
 first match() trains (defined in forest.cpp). */
 void checkForestParams(const ForestParams& p);
 
-/** The most text load() reads from a model file (1 GiB, decompressed), and save() writes. */
+/** The most text load() reads from a model file (1 GiB, decompressed), and save() writes. A 2.9 GB
+text makes cv::FileStorage (OpenCV 4.6) itself fail an assertion while parsing. */
 const size_t MAX_MODEL_TEXT_BYTES = size_t(1) << 30;
 
 /** cv::FileStorage's format flag of a model file name: FORMAT_JSON for .json, FORMAT_XML for .xml,
