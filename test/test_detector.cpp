@@ -205,6 +205,75 @@ TEST(Forestmod_Detector, forest_finds_object_and_rejects_background)
     EXPECT_GE(rejected / trials, 0.5);
 }
 
+// setParams() keeps the trained forests when only match()'s parameters change (a loaded model
+// of many objects would otherwise be trained again, for minutes, at the next match), and marks
+// them for retraining when a parameter that shapes them changes.
+TEST(Forestmod_Detector, setParams_keeps_the_forests_unless_they_change)
+{
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
+    cv::forestmod::Detector det(mods, Tpyr()), fresh(mods, Tpyr());
+    addObjectTemplates(det, 20, "L", 0);
+    addObjectTemplates(fresh, 20, "L", 0);
+    det.train();
+    const Ptr<TemplateForest> forest = det.getForest(0);
+    ASSERT_FALSE(forest.empty());
+    DetectorParams p = det.getParams();
+    p.min_window_labels = 0.4f;
+    p.depth_range_tolerance = 0.3f;
+    p.breadth_first = false;
+    p.chunk_size = 8;
+    p.alpha = 0.4f;
+    p.max_survivors = 2;
+    p.exhaustive_ratio = 0.05f;
+    p.depth_samples = 32;
+    p.depth_tolerance = 7;
+    p.nms_iou = 0.3f;
+    det.setParams(p);
+    EXPECT_TRUE(det.isTrained());
+    EXPECT_EQ(forest.get(), det.getForest(0).get());
+    // the kept forests with the new parameters match as forests trained with them
+    fresh.setParams(p);
+    fresh.train();
+    RNG rng(11);
+    Mat scene = clutter(Size(640, 480), rng);
+    drawObject(scene, 0, Point2f(300.f, 220.f), 10.f, 1.0f);
+    std::vector<linemod::Match> a, b;
+    det.match(std::vector<Mat>(2, scene), 80.f, a);
+    fresh.match(std::vector<Mat>(2, scene), 80.f, b);
+    ASSERT_FALSE(a.empty());
+    ASSERT_EQ(a.size(), b.size());
+    for (size_t i = 0; i < a.size(); ++i)
+    {
+        EXPECT_EQ(a[i].x, b[i].x) << i;
+        EXPECT_EQ(a[i].y, b[i].y) << i;
+        EXPECT_EQ(a[i].template_id, b[i].template_id) << i;
+        EXPECT_EQ(a[i].similarity, b[i].similarity) << i;
+    }
+    // each parameter of the search index marks the forests for retraining
+    for (int k = 0; k < 10; ++k)
+    {
+        det.train();
+        ASSERT_TRUE(det.isTrained());
+        DetectorParams q = det.getParams();
+        switch (k)
+        {
+        case 0: q.forest.num_trees += 1; break;
+        case 1: q.forest.rejector_dims /= 2; break;
+        case 2: q.forest.fuzzy_margin += 1; break;
+        case 3: q.forest.seed += 1; break;
+        case 4: q.grid_size += 2; break;
+        case 5: q.dominant_window = 1; break;
+        case 6: q.group_size_ratio = 0.f; break;
+        case 7: q.auto_depth_leaf_samples *= 2; break;
+        case 8: q.group_templates = !q.group_templates; break;
+        default: q.location_step = 2; break;
+        }
+        det.setParams(q);
+        EXPECT_FALSE(det.isTrained()) << "change " << k;
+        det.setParams(p);
+    }
+}
+
 TEST(Forestmod_Detector, more_than_63_features_and_single_modality)
 {
     // 150 gradient features per template: 8-bit accumulation would overflow

@@ -515,7 +515,10 @@ public:
     CV_WRAP bool isTrained() const;
 
     CV_WRAP DetectorParams getParams() const;
-    /** Changing parameters that shape the forest (forest, grid_size) marks it for retraining. */
+    /** Changing a parameter that shapes the search index (the "search index" section of
+    DetectorParams, and location_step) marks the forests for retraining at the next match() or
+    train(); the others (scan, validation, depth, NMS) apply to the next match() with the trained
+    forests, e.g. those of a loaded model. */
     CV_WRAP void setParams(const DetectorParams& params);
 
     /** The trained forest of a search group (DetectorParams::group_size_ratio; empty before
