@@ -241,14 +241,7 @@ TEST(Forestmod_Detector, setParams_keeps_the_forests_unless_they_change)
     det.match(std::vector<Mat>(2, scene), 80.f, a);
     fresh.match(std::vector<Mat>(2, scene), 80.f, b);
     ASSERT_FALSE(a.empty());
-    ASSERT_EQ(a.size(), b.size());
-    for (size_t i = 0; i < a.size(); ++i)
-    {
-        EXPECT_EQ(a[i].x, b[i].x) << i;
-        EXPECT_EQ(a[i].y, b[i].y) << i;
-        EXPECT_EQ(a[i].template_id, b[i].template_id) << i;
-        EXPECT_EQ(a[i].similarity, b[i].similarity) << i;
-    }
+    expectSameMatches(a, b);
     // each parameter of the search index marks the forests for retraining
     for (int k = 0; k < 10; ++k)
     {

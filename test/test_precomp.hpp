@@ -28,6 +28,22 @@ std::string sharedDataPath();
 /** Folder of the test binary (the samples are built next to it). */
 std::string testBinaryDir();
 
+/** Expects two lists of matches of the same length to be the same matches in the same order
+(position, template, similarity); `what` names the case in the failure messages. */
+inline void expectSameMatches(const std::vector<cv::linemod::Match>& a,
+                              const std::vector<cv::linemod::Match>& b,
+                              const std::string& what = std::string())
+{
+    ASSERT_EQ(a.size(), b.size()) << what;
+    for (size_t k = 0; k < a.size(); ++k)
+    {
+        EXPECT_EQ(a[k].x, b[k].x) << what << " match " << k;
+        EXPECT_EQ(a[k].y, b[k].y) << what << " match " << k;
+        EXPECT_EQ(a[k].template_id, b[k].template_id) << what << " match " << k;
+        EXPECT_EQ(a[k].similarity, b[k].similarity) << what << " match " << k;
+    }
+}
+
 /** A temporary folder (cv::tempfile, `suffix` in its name), removed with what it holds at the
 end of the test. */
 struct TempDir

@@ -1010,13 +1010,7 @@ static void expectRefinementOnTiles(const std::vector<int>& T, int num_matches, 
         {
             EXPECT_EQ(coarse.size(), a.size());
         }
-        for (size_t k = 0; k < a.size(); ++k)
-        {
-            EXPECT_EQ(b[k].x, a[k].x) << k;
-            EXPECT_EQ(b[k].y, a[k].y) << k;
-            EXPECT_EQ(b[k].template_id, a[k].template_id) << k;
-            EXPECT_EQ(b[k].similarity, a[k].similarity) << k;
-        }
+        expectSameMatches(b, a, cv::format("threshold %g", thr));
     }
 }
 
@@ -1114,13 +1108,7 @@ TEST(Forestmod_QuantizeFast, match_same_with_1_and_4_threads)
             EXPECT_EQ(s1.validated, s4.validated);
             EXPECT_EQ(s1.candidates, s4.candidates);
             EXPECT_EQ(s1.rejected, s4.rejected);
-            for (size_t k = 0; k < one.size(); ++k)
-            {
-                EXPECT_EQ(one[k].x, four[k].x);
-                EXPECT_EQ(one[k].y, four[k].y);
-                EXPECT_EQ(one[k].template_id, four[k].template_id);
-                EXPECT_EQ(one[k].similarity, four[k].similarity);
-            }
+            expectSameMatches(one, four, cv::format("rgbd %d exhaustive %d", rgbd, exhaustive));
             ASSERT_EQ(q1.size(), q4.size());
             ASSERT_EQ(det.getModalities().size() * det.pyramidLevels(), q1.size());
             for (size_t k = 0; k < q1.size(); ++k)
@@ -1196,14 +1184,7 @@ TEST(Forestmod_QuantizeFast, match_user_modality_and_changed_parameters)
     b.match(src, 60.f, mb);
     EXPECT_EQ(1, CountingGradient::calls) << "the user's modality keeps its virtual calls";
     ASSERT_FALSE(ma.empty());
-    ASSERT_EQ(ma.size(), mb.size());
-    for (size_t k = 0; k < ma.size(); ++k)
-    {
-        EXPECT_EQ(ma[k].x, mb[k].x);
-        EXPECT_EQ(ma[k].y, mb[k].y);
-        EXPECT_EQ(ma[k].template_id, mb[k].template_id);
-        EXPECT_EQ(ma[k].similarity, mb[k].similarity);
-    }
+    expectSameMatches(ma, mb);
 
     // parameters changed after the detector was made are those of the next frame
     Ptr<linemod::ColorGradient> g = a.getModalities()[0].dynamicCast<linemod::ColorGradient>();
