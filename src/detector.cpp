@@ -52,24 +52,25 @@ DetectorParams Detector::getParams() const
     return impl_->params;
 }
 
+// ForestParams as written to a model file (every field, whatever fields it gains).
+static String forestParamsText(const ForestParams& p)
+{
+    FileStorage fs(".yml", FileStorage::WRITE | FileStorage::MEMORY);
+    fs << "forest" << "{";
+    p.write(fs);
+    fs << "}";
+    return fs.releaseAndGetString();
+}
+
 // Whether two parameter sets train the same search index (train()'s section of DetectorParams:
 // the groups, their windows, descriptors and forests); the others are read by match() only.
 static bool sameSearchIndex(const DetectorParams& a, const DetectorParams& b)
 {
-    const ForestParams &f = a.forest, &g = b.forest;
-    return f.num_trees == g.num_trees && f.max_depth == g.max_depth
-           && f.min_node_size == g.min_node_size && f.split_dims == g.split_dims
-           && f.pool_size == g.pool_size && f.fuzzy_margin == g.fuzzy_margin
-           && f.split_coverage == g.split_coverage && f.rejector_dims == g.rejector_dims
-           && f.rejector_rho == g.rejector_rho && f.rejector_tau == g.rejector_tau
-           && f.rejector_coverage == g.rejector_coverage
-           && f.rejector_noise == g.rejector_noise && f.reject_any_tree == g.reject_any_tree
-           && f.seed == g.seed && a.grid_size == b.grid_size
-           && a.dominant_window == b.dominant_window
-           && a.group_size_ratio == b.group_size_ratio
-           && a.group_templates == b.group_templates
+    return a.grid_size == b.grid_size && a.dominant_window == b.dominant_window
+           && a.group_size_ratio == b.group_size_ratio && a.group_templates == b.group_templates
            && a.auto_depth_leaf_samples == b.auto_depth_leaf_samples
-           && a.location_step == b.location_step;
+           && a.location_step == b.location_step
+           && forestParamsText(a.forest) == forestParamsText(b.forest);
 }
 
 void Detector::setParams(const DetectorParams& params)
