@@ -32,6 +32,22 @@ int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort thres
 
 #ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
+// The index of the lowest set bit of m != 0.
+static inline int lowestBit(unsigned m)
+{
+#if defined(__GNUC__)
+    return __builtin_ctz(m);
+#else
+    int i = 0;
+    while (!(m & 1u))
+    {
+        m >>= 1;
+        ++i;
+    }
+    return i;
+#endif
+}
+
 void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n)
 {
     if (n_off == 0)
@@ -198,10 +214,10 @@ int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort thres
     for (; k <= n - w; k += w)
     {
         const v_uint16 v = vx_load(src + k);
-        if (v_check_any((v > t) & (v >= v_mul_hi(vx_load(bar + k), s))))
-            for (int j = k; j < k + w; ++j)
-                if (src[j] > threshold && src[j] >= (bar[j] * (unsigned)scale) >> 16)
-                    out[found++] = j;
+        // the passing lanes as bits, lowest lane first; one index written per set bit
+        unsigned mask = (unsigned)v_signmask((v > t) & (v >= v_mul_hi(vx_load(bar + k), s)));
+        for (; mask; mask &= mask - 1)
+            out[found++] = k + lowestBit(mask);
     }
 #endif
     for (; k < n; ++k)
