@@ -68,11 +68,12 @@ struct Scored
 };
 } // namespace
 
-// Inserts `s` into the best-first list `top` of k entries (empty entries have row -1).
-static void keepBest(Scored* top, int k, const Scored& s)
+// Inserts `s` into the best-first list `top` of k entries (empty entries have row -1); false
+// when it does not enter.
+static bool keepBest(Scored* top, int k, const Scored& s)
 {
     if (top[k - 1].row >= 0 && !s.better(top[k - 1]))
-        return;
+        return false;
     int i = k - 1;
     while (i > 0 && (top[i - 1].row < 0 || s.better(top[i - 1])))
     {
@@ -80,6 +81,7 @@ static void keepBest(Scored* top, int k, const Scored& s)
         --i;
     }
     top[i] = s;
+    return true;
 }
 
 // A position's entry bar once its list of k best is full: a template can then only enter with
@@ -90,8 +92,9 @@ static inline ushort entryBar(const Scored& last)
 {
     if (last.row < 0)
         return 0;
-    const int64 q = ((int64)last.raw << 16) / (4 * (int64)last.total);
-    return static_cast<ushort>(std::min<int64>(q, 65535));
+    // 65536 raw / (4 total) = 16384 raw / total: raw < 65536 keeps it in 32 bits
+    const unsigned q = ((unsigned)last.raw << 14) / (unsigned)last.total;
+    return static_cast<ushort>(std::min(q, 65535u));
 }
 
 // The rows of positions r0 .. r1 of a template whose depth span `z` (widened) the scene depth
@@ -111,6 +114,22 @@ static bool rowsInDepthRange(const DepthCells* cells, const DepthSpan& z, Point 
     return r0 <= r1;
 }
 
+// Asks the cache for the kept features of the template of index row `row`: the rows of a search
+// group lie apart in the index (every class's templates, by size), and the first reads of each
+// template's features waited for memory (the 8 LM-O objects' model: 12.7 MB of them per frame).
+static inline void prefetchFeatures(const CoarseRuns& coarse, int row)
+{
+#if defined(__GNUC__)
+    const char* p = reinterpret_cast<const char*>(coarse.features.data() + coarse.begin[row]);
+    const char* e = reinterpret_cast<const char*>(coarse.features.data() + coarse.begin[row + 1]);
+    for (; p < e; p += 64)
+        __builtin_prefetch(p);
+#else
+    CV_UNUSED(coarse);
+    CV_UNUSED(row);
+#endif
+}
+
 // The templates rows[i0 .. i1) at every position (with a depth test, at the positions where the
 // scene depth reaches into their widened depth span): each position's best K in `best` (lists of
 // the T grid's cells, row-major), its entry bar in `bar` (the scores' layout r * stride + c).
@@ -125,6 +144,8 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
     std::vector<int> hits;
     for (int i = i0; i < i1; ++i)
     {
+        if (i + 1 < i1)
+            prefetchFeatures(coarse, rows[i + 1]);
         int span_x = 0, span_y = 0, r0 = 0, r1 = 0;
         Scored sc;
         sc.total = coarse.total[rows[i]];
@@ -166,16 +187,22 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
         hits.resize(n_pos);
         const int n_hits = positionsPassing16(&scores[0], bar_r0, n_pos, (ushort)raw_thr,
                                               (ushort)(4 * sc.total), &hits[0]); // <= 65532
-        for (int h = 0; h < n_hits; ++h)
+        // the hits ascend: their row follows them without a division
+        for (int h = 0, r = r0, row_start = 0; h < n_hits; ++h)
         {
             const int p = hits[h];
-            const int dr = p / lm.stride, c = p - dr * lm.stride, r = r0 + dr;
+            while (p >= row_start + lm.stride)
+            {
+                row_start += lm.stride;
+                ++r;
+            }
+            const int c = p - row_start;
             if (c > span_x || (cells && !cells->reaches(c + centre.x, r + centre.y, z)))
                 continue;
             sc.raw = scores[p];
             Scored* list = best + (size_t)(r * lm.cells_x + c) * K;
-            keepBest(list, K, sc);
-            bar_r0[p] = entryBar(list[K - 1]);
+            if (keepBest(list, K, sc)) // the bar only moves when the list changes
+                bar_r0[p] = entryBar(list[K - 1]);
         }
     }
 }
