@@ -45,11 +45,14 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
         for (int cy = y0; cy <= y1; ++cy)
             for (int cx = x0; cx <= x1; ++cx)
             {
+                // a cell's kept boxes ascend: past the leader found so far, none can lead
                 const std::vector<int>& kept = grid[(size_t)cy * gx + cx];
                 for (size_t k = 0; k < kept.size(); ++k)
                 {
                     const int j = kept[k];
-                    if (seen[j] == i || (leader[i] >= 0 && j > leader[i]))
+                    if (leader[i] >= 0 && j > leader[i])
+                        break;
+                    if (seen[j] == i)
                         continue;
                     seen[j] = i;
                     const Rect& b = boxes[j];
