@@ -5,6 +5,8 @@
 #include "precomp.hpp"
 #include "nms.hpp"
 
+#include <climits>
+
 namespace cv {
 namespace forestmod {
 namespace detail {
@@ -22,50 +24,67 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
     leader.assign(n, -1);
     if (n == 0)
         return;
-    // The kept boxes in a grid of cells of half the largest side: boxes overlap by iou > 0 only
-    // when they intersect, so a box is compared with the kept boxes of the cells it covers
-    // (a few each), not with every kept box. The first kept box in order is the one of lowest
-    // index: the same leaders as comparing with all of them in order.
-    Rect all = boxes[0];
-    int side = 1;
-    for (int i = 0; i < n; ++i)
-    {
-        all |= boxes[i];
-        side = std::max(side, std::max(boxes[i].width, boxes[i].height));
-    }
-    const int cell = std::max(16, side / 2);
-    const int gx = all.width / cell + 1, gy = all.height / cell + 1;
-    std::vector<std::vector<int> > grid((size_t)gx * gy);
-    std::vector<int> seen(n, -1);
+    // IoU(a, b) > iou needs an overlap wider than iou x max(a.width, b.width) (the union is at
+    // least max(w) x min(h), the intersection at most overlap x min(h)), so the centres lie less
+    // than (1 - iou) x max(w) apart in x (likewise in y). The kept boxes go into a grid of cells
+    // of that size by their centre (doubled: integers), and a box is compared only with the kept
+    // boxes of the 3 x 3 cells around its centre's, each once. A cell's boxes ascend: the first
+    // one that overlaps enough is the lowest index, the same leader as comparing with every kept
+    // box in order.
+    int x0 = INT_MAX, y0 = INT_MAX, x1 = INT_MIN, y1 = INT_MIN, max_w = 1, max_h = 1;
     for (int i = 0; i < n; ++i)
     {
         const Rect& a = boxes[i];
-        const int x0 = (a.x - all.x) / cell, x1 = (a.x + a.width - 1 - all.x) / cell;
-        const int y0 = (a.y - all.y) / cell, y1 = (a.y + a.height - 1 - all.y) / cell;
-        for (int cy = y0; cy <= y1; ++cy)
-            for (int cx = x0; cx <= x1; ++cx)
+        x0 = std::min(x0, 2 * a.x + a.width);
+        x1 = std::max(x1, 2 * a.x + a.width);
+        y0 = std::min(y0, 2 * a.y + a.height);
+        y1 = std::max(y1, 2 * a.y + a.height);
+        max_w = std::max(max_w, a.width);
+        max_h = std::max(max_h, a.height);
+    }
+    const int cw = 2 * std::max(1, cvCeil((1.0 - iou) * max_w));
+    const int ch = 2 * std::max(1, cvCeil((1.0 - iou) * max_h));
+    const int gx = (x1 - x0) / cw + 1, gy = (y1 - y0) / ch + 1;
+    std::vector<std::vector<int> > grid((size_t)gx * gy);
+    const double reach = 2.0 * (1.0 - iou);
+    for (int i = 0; i < n; ++i)
+    {
+        const Rect& a = boxes[i];
+        const int cx = (2 * a.x + a.width - x0) / cw, cy = (2 * a.y + a.height - y0) / ch;
+        // its own cell first (a leader found there cuts the others short), then the 8 around
+        int cells[9], n_cells = 0;
+        cells[n_cells++] = cy * gx + cx;
+        for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, gy - 1); ++y)
+            for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, gx - 1); ++x)
+                if (x != cx || y != cy)
+                    cells[n_cells++] = y * gx + x;
+        for (int c = 0; c < n_cells; ++c)
+        {
+            const std::vector<int>& kept = grid[(size_t)cells[c]];
+            for (size_t k = 0; k < kept.size(); ++k)
             {
-                // a cell's kept boxes ascend: past the leader found so far, none can lead
-                const std::vector<int>& kept = grid[(size_t)cy * gx + cx];
-                for (size_t k = 0; k < kept.size(); ++k)
+                const int j = kept[k];
+                if (leader[i] >= 0 && j > leader[i])
+                    break;
+                const Rect& b = boxes[j];
+                // the centres' bound for these two widths and heights (with a margin of a doubled
+                // pixel for rounding): most kept boxes nearby fail it
+                if (std::abs(2 * (a.x - b.x) + a.width - b.width)
+                        > reach * std::max(a.width, b.width) + 1
+                    || std::abs(2 * (a.y - b.y) + a.height - b.height)
+                        > reach * std::max(a.height, b.height) + 1)
+                    continue;
+                const double inter = (a & b).area();
+                const double uni = a.area() + b.area() - inter;
+                if (uni > 0 && inter / uni > iou)
                 {
-                    const int j = kept[k];
-                    if (leader[i] >= 0 && j > leader[i])
-                        break;
-                    if (seen[j] == i)
-                        continue;
-                    seen[j] = i;
-                    const Rect& b = boxes[j];
-                    const double inter = (a & b).area();
-                    const double uni = a.area() + b.area() - inter;
-                    if (uni > 0 && inter / uni > iou)
-                        leader[i] = j;
+                    leader[i] = j;
+                    break;
                 }
             }
+        }
         if (leader[i] < 0)
-            for (int cy = y0; cy <= y1; ++cy)
-                for (int cx = x0; cx <= x1; ++cx)
-                    grid[(size_t)cy * gx + cx].push_back(i);
+            grid[(size_t)cy * gx + cx].push_back(i);
     }
 }
 
