@@ -42,8 +42,15 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
         max_w = std::max(max_w, a.width);
         max_h = std::max(max_h, a.height);
     }
-    const int cw = 2 * std::max(1, cvCeil((1.0 - iou) * max_w));
-    const int ch = 2 * std::max(1, cvCeil((1.0 - iou) * max_h));
+    int cw = 2 * std::max(1, cvCeil((1.0 - iou) * max_w));
+    int ch = 2 * std::max(1, cvCeil((1.0 - iou) * max_h));
+    // larger cells hold more boxes but keep the bound: at most about 4 cells per box (small boxes
+    // spread over a large range, or a high iou, would ask for millions)
+    while ((int64)((x1 - x0) / cw + 1) * ((y1 - y0) / ch + 1) > std::max(64, 4 * n))
+    {
+        cw *= 2;
+        ch *= 2;
+    }
     const int gx = (x1 - x0) / cw + 1, gy = (y1 - y0) / ch + 1;
     std::vector<std::vector<int> > grid((size_t)gx * gy);
     const double reach = 2.0 * (1.0 - iou);

@@ -67,6 +67,29 @@ TEST(Forestmod_NMS, grid_of_kept_boxes_gives_the_greedy_leaders)
             }
         }
     }
+    // small boxes over a range thousands of times their size, in pairs that overlap: cells of
+    // (1 - iou) x the largest side would number millions; the grid keeps about 4 per box
+    for (float iou : { 0.5f, 0.9f })
+    {
+        std::vector<Rect> boxes;
+        for (int i = 0; i < 300; ++i)
+        {
+            const Rect r(rng.uniform(-20000, 20000), rng.uniform(-20000, 20000),
+                         rng.uniform(4, 11), rng.uniform(4, 11));
+            boxes.push_back(r);
+            boxes.push_back(rng.uniform(0, 2) ? r : r + Point(1, 0));
+        }
+        const std::vector<int> expect = greedyLeaders(boxes, iou);
+        std::vector<int> leader;
+        suppressOverlaps(boxes, iou, leader);
+        ASSERT_EQ(expect, leader) << "iou " << iou;
+        // a pair shifted by a pixel overlaps by (w - 1) / (w + 1) = 0.6-0.82
+        const int kept = (int)std::count(leader.begin(), leader.end(), -1);
+        if (iou < 0.6f)
+            EXPECT_EQ(300, kept);
+        else
+            EXPECT_GT(kept, 300);
+    }
     std::vector<int> leader;
     EXPECT_THROW(suppressOverlaps(std::vector<Rect>(2, Rect(0, 0, 5, 5)), 0.f, leader),
                  cv::Exception);
