@@ -16,12 +16,12 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-// The raw scores of a template given by its coarsest-level features `f` (CoarseRuns) at the
-// positions of the T grid where its box of `cells` fits, in the rows r0 .. r1 of positions
-// (all of them when r1 < 0): scores[(r - r0) * stride + c].
-static bool scoreRuns(const LinearMemories& lm, const CoarseFeature* f, int n_f, Size cells,
-                      int& span_x, int& span_y, std::vector<ushort>& scores, int r0 = 0,
-                      int r1 = -1)
+// The runs of the memories that a template's coarsest-level features `f` (CoarseRuns) read for
+// the positions of the T grid where its box of `cells` fits, in the rows r0 .. r1 of positions
+// (all of them when r1 < 0): position (r, c) is run + (r - r0) * stride + c. False when the box
+// does not fit.
+static bool runsOf(const LinearMemories& lm, const CoarseFeature* f, int n_f, Size cells,
+                   int& span_x, int& span_y, std::vector<int>& runs, int& r0, int& r1)
 {
     span_x = lm.cells_x - cells.width;
     span_y = lm.cells_y - cells.height;
@@ -30,18 +30,11 @@ static bool scoreRuns(const LinearMemories& lm, const CoarseFeature* f, int n_f,
     if (r1 < 0)
         r1 = span_y;
     CV_DbgAssert(0 <= r0 && r0 <= r1 && r1 <= span_y);
-    // every feature's run of the memories (cx <= cells.width <= cells_x: no overflow)
-    static thread_local std::vector<int> runs;
+    // (cx <= cells.width <= cells_x: no overflow)
     runs.resize(n_f);
     const int plane = lm.stride * lm.rows;
     for (int k = 0; k < n_f; ++k)
         runs[k] = f[k].memory * plane + (f[k].cy + r0) * lm.stride + f[k].cx;
-    // positions r * stride + c, the row ends included (they wrap: scored, never reported); the
-    // kernel writes whole vectors
-    const int n = (r1 - r0) * lm.stride + span_x + 1;
-    scores.resize(n + LinearMemories::kSlack);
-    sumRuns16(&scores[0], &lm.data[0], runs.empty() ? 0 : &runs[0], n_f, n);
-    scores.resize(n);
     return true;
 }
 
@@ -50,8 +43,18 @@ bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int le
 {
     std::vector<CoarseFeature> f;
     const Size cells = coarseFeatures(tp, level_index, num_modalities, lm.T, f);
-    return scoreRuns(lm, f.empty() ? 0 : &f[0], static_cast<int>(f.size()), cells, span_x,
-                     span_y, scores);
+    std::vector<int> runs;
+    int r0 = 0, r1 = -1;
+    if (!runsOf(lm, f.empty() ? 0 : &f[0], static_cast<int>(f.size()), cells, span_x, span_y,
+                runs, r0, r1))
+        return false;
+    // positions r * stride + c, the row ends included (they wrap); the kernel writes whole
+    // vectors
+    const int n = r1 * lm.stride + span_x + 1;
+    scores.resize(n + LinearMemories::kSlack);
+    sumRuns16(&scores[0], &lm.data[0], runs.empty() ? 0 : &runs[0], (int)runs.size(), n);
+    scores.resize(n);
+    return true;
 }
 
 namespace {
@@ -130,6 +133,42 @@ static inline void prefetchFeatures(const CoarseRuns& coarse, int row)
 #endif
 }
 
+namespace {
+// searchTemplates' buffers, reused from template to template.
+struct SearchBuffers
+{
+    std::vector<ushort> scores, need;
+    std::vector<int> runs, vectors, hits;
+};
+} // namespace
+
+// The positions (r - r0) * stride + c where a template whose features sum beyond 16 bits
+// (hostile model files only) passes the threshold and the entry bar, in buf.hits, its scores in
+// buf.scores; LINEMOD's similarity at every position.
+static int passingBySimilarity(const LevelMaps& top, int L, const LinearMemories& lm,
+                               const TemplatePyramid& tp, int raw_thr, int total,
+                               const ushort* bar, SearchBuffers& buf, int& span_x, int& r1)
+{
+    const cv::linemod::Template& t0 = tp[L * top.modalities()];
+    const int T = top.T;
+    span_x = lm.cells_x - ((t0.width - 1) / T + 1);
+    r1 = lm.cells_y - ((t0.height - 1) / T + 1);
+    if (span_x < 0 || r1 < 0)
+        return 0;
+    buf.scores.assign((size_t)r1 * lm.stride + span_x + 1, 0);
+    buf.hits.clear();
+    for (int r = 0; r <= r1; ++r)
+        for (int c = 0; c <= span_x; ++c)
+        {
+            const int p = r * lm.stride + c;
+            const int raw = std::min(65535, similarityAll(top, tp, L, Point(c * T, r * T)));
+            buf.scores[p] = (ushort)raw;
+            if (raw > raw_thr && (((uint64)bar[p] * (uint64)(4 * total)) >> 16) <= (uint64)raw)
+                buf.hits.push_back(p);
+        }
+    return (int)buf.hits.size();
+}
+
 // The templates rows[i0 .. i1) at every position (with a depth test, at the positions where the
 // scene depth reaches into their widened depth span): each position's best K in `best` (lists of
 // the T grid's cells, row-major), its entry bar in `bar` (the scores' layout r * stride + c).
@@ -138,59 +177,54 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
                             const std::vector<int>& rows, int i0, int i1, float threshold, int K,
                             const DepthCells* cells, float tolerance, Scored* best, ushort* bar)
 {
-    const int M = top.modalities(), T = top.T;
     const CoarseRuns& coarse = index.coarse;
-    std::vector<ushort> scores;
-    std::vector<int> hits;
+    SearchBuffers buf;
     for (int i = i0; i < i1; ++i)
     {
         if (i + 1 < i1)
             prefetchFeatures(coarse, rows[i + 1]);
-        int span_x = 0, span_y = 0, r0 = 0, r1 = 0;
         Scored sc;
-        sc.total = coarse.total[rows[i]];
-        const DepthSpan z = cells ? widenedSpan(index.depth[rows[i]], tolerance) : DepthSpan();
-        const Point centre = coarse.centre[rows[i]];
-        if (sc.total > kMaxSum16) // beyond 16-bit sums (hostile model files only)
-        {
-            const TemplateRef& ref = index.rows[rows[i]];
-            const TemplatePyramid& tp = pyramids.find(ref.class_id)->second[ref.template_id];
-            const cv::linemod::Template& t0 = tp[L * M];
-            span_x = lm.cells_x - ((t0.width - 1) / T + 1);
-            span_y = lm.cells_y - ((t0.height - 1) / T + 1);
-            if (span_x < 0 || span_y < 0)
-                continue;
-            r1 = span_y;
-            scores.assign((size_t)(span_y + 1) * lm.stride, 0);
-            for (int r = 0; r <= span_y; ++r)
-                for (int c = 0; c <= span_x; ++c)
-                    scores[(size_t)r * lm.stride + c] = (ushort)std::min(
-                        65535, similarityAll(top, tp, L, Point(c * T, r * T)));
-        }
-        else
-        {
-            const Size box = coarse.cells[rows[i]];
-            if (!rowsInDepthRange(cells, z, centre, lm.cells_y - box.height, r0, r1))
-                continue;
-            const int b = coarse.begin[rows[i]], e = coarse.begin[rows[i] + 1];
-            if (!scoreRuns(lm, b < e ? &coarse.features[b] : 0, e - b, box, span_x, span_y,
-                           scores, r0, r1))
-                continue;
-        }
         sc.row = rows[i];
+        sc.total = coarse.total[sc.row];
         const int raw_thr = rawThreshold(threshold, sc.total);
         if (raw_thr >= 65535)
             continue;
-        // one scan over the positions (r - r0) * stride + c; the row ends (c > span_x) wrap
-        const int n_pos = (r1 - r0) * lm.stride + span_x + 1;
+        const DepthSpan z = cells ? widenedSpan(index.depth[sc.row], tolerance) : DepthSpan();
+        const Point centre = coarse.centre[sc.row];
+        int span_x = 0, span_y = 0, r0 = 0, r1 = 0, n_hits = 0;
+        if (sc.total > kMaxSum16) // beyond 16-bit sums (hostile model files only)
+        {
+            const TemplateRef& ref = index.rows[sc.row];
+            n_hits = passingBySimilarity(top, L, lm,
+                                         pyramids.find(ref.class_id)->second[ref.template_id],
+                                         raw_thr, sc.total, bar, buf, span_x, r1);
+        }
+        else
+        {
+            const Size box = coarse.cells[sc.row];
+            if (!rowsInDepthRange(cells, z, centre, lm.cells_y - box.height, r0, r1))
+                continue;
+            const int b = coarse.begin[sc.row], e = coarse.begin[sc.row + 1];
+            if (!runsOf(lm, b < e ? &coarse.features[b] : 0, e - b, box, span_x, span_y,
+                        buf.runs, r0, r1))
+                continue;
+            // the positions (r - r0) * stride + c, the row ends (c > span_x) included: they
+            // wrap, are scored and never reported
+            const int n_pos = (r1 - r0) * lm.stride + span_x + 1;
+            buf.scores.resize(n_pos + LinearMemories::kSlack);
+            buf.need.resize(n_pos + LinearMemories::kSlack);
+            buf.vectors.resize(n_pos / 16 + 1);
+            buf.hits.resize(n_pos);
+            n_hits = sumRunsPassing16(&buf.scores[0], &lm.data[0], b < e ? &buf.runs[0] : 0,
+                                      e - b, n_pos, bar + (size_t)r0 * lm.stride,
+                                      (ushort)raw_thr, (ushort)(4 * sc.total), &buf.need[0],
+                                      &buf.vectors[0], &buf.hits[0]); // 4 total <= 65532
+        }
         ushort* bar_r0 = bar + (size_t)r0 * lm.stride;
-        hits.resize(n_pos);
-        const int n_hits = positionsPassing16(&scores[0], bar_r0, n_pos, (ushort)raw_thr,
-                                              (ushort)(4 * sc.total), &hits[0]); // <= 65532
         // the hits ascend: their row follows them without a division
         for (int h = 0, r = r0, row_start = 0; h < n_hits; ++h)
         {
-            const int p = hits[h];
+            const int p = buf.hits[h];
             while (p >= row_start + lm.stride)
             {
                 row_start += lm.stride;
@@ -199,7 +233,7 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
             const int c = p - row_start;
             if (c > span_x || (cells && !cells->reaches(c + centre.x, r + centre.y, z)))
                 continue;
-            sc.raw = scores[p];
+            sc.raw = buf.scores[p];
             Scored* list = best + (size_t)(r * lm.cells_x + c) * K;
             if (keepBest(list, K, sc)) // the bar only moves when the list changes
                 bar_r0[p] = entryBar(list[K - 1]);
@@ -225,19 +259,20 @@ void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
     lm.build(top);
     const int P = lm.cells_x * lm.cells_y;
     const int n = static_cast<int>(rows.size());
-    // templates in a fixed number of blocks, each with its own best lists, merged afterwards
+    // templates in a fixed number of blocks; the blocks of one call of the body share the best
+    // lists (and so the entry bars) of its first block, the lists are merged afterwards: a
+    // position's best K of a union are the best K of its parts' best K, however the blocks fall
+    // to the threads (Scored::better is a total order)
     const int blocks = std::max(1, std::min(n, 4 * getNumThreads()));
     Scored none = { 0, 1, -1 };
     std::vector<std::vector<Scored> > best(blocks, std::vector<Scored>((size_t)P * K, none));
     parallel_for_(Range(0, blocks), [&](const Range& range) {
-        std::vector<ushort> bar((size_t)lm.stride * lm.cells_y);
+        // read in whole vectors by the additions' kernel
+        std::vector<ushort> bar((size_t)lm.stride * lm.cells_y + LinearMemories::kSlack, 0);
         for (int b = range.start; b < range.end; ++b)
-        {
-            std::fill(bar.begin(), bar.end(), (ushort)0);
             searchTemplates(top, L, lm, index, pyramids, rows, (int)((int64)n * b / blocks),
                             (int)((int64)n * (b + 1) / blocks), threshold, K, cells,
-                            depth_tolerance, &best[b][0], &bar[0]);
-        }
+                            depth_tolerance, &best[range.start][0], &bar[0]);
     });
     for (int b = 1; b < blocks; ++b)
         for (int p = 0; p < P; ++p)

@@ -48,14 +48,17 @@ void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zer
     FORESTMOD_DISPATCH(countAccepted8(dst, src, n, labels, zero_ok));
 }
 
-int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort threshold,
-                       ushort scale, int* out)
+int sumRunsPassing16(ushort* sums, const uchar* base, const int* off, int n_off, int n,
+                     const ushort* bar, ushort threshold, ushort scale, ushort* need, int* vec,
+                     int* hits)
 {
 #ifdef FORESTMOD_HAVE_AVX2
     if (useAVX2())
-        return opt_AVX2::positionsPassing16(src, bar, n, threshold, scale, out);
+        return opt_AVX2::sumRunsPassing16(sums, base, off, n_off, n, bar, threshold, scale, need,
+                                          vec, hits);
 #endif
-    return cpu_baseline::positionsPassing16(src, bar, n, threshold, scale, out);
+    return cpu_baseline::sumRunsPassing16(sums, base, off, n_off, n, bar, threshold, scale, need,
+                                          vec, hits);
 }
 
 const char* kernelsPath()

@@ -38,12 +38,19 @@ CV_EXPORTS void countLabels8(uchar* dst, const uchar* src, int n);
 zero_ok for the value 0 (rejector.hpp's look-up); 8-bit with wrap-around as countLabels8. */
 CV_EXPORTS void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels,
                                uchar zero_ok);
-/** The indices i in [0, n) where src[i] > threshold and src[i] >= (bar[i] x scale) >> 16,
-ascending, into out (room for n); returns their number: the exhaustive search's scan of a
-template's scores against the threshold and each position's entry bar (most positions stay
-under them: one vector comparison per 8 or 16 of them). bar[i] = 0 tests the threshold alone. */
-CV_EXPORTS int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort threshold,
-                                  ushort scale, int* out);
+/** The exhaustive search's additions and scan of one template (sumRuns16 and a test against
+the threshold and each position's entry bar): the indices i in [0, n) where the sum s of the runs
+off[0 .. n_off) at position i (as sumRuns16's out[i]) passes, s > threshold and
+s >= (bar[i] x scale) >> 16, ascending into `hits` (room for n); returns their number, and
+sums[i] = s at those positions. Preemptive: the features are added in stages of 24, and after
+each stage a vector of positions none of which could pass with the largest response (4) for
+every feature left gets no more of them (most do not on cluttered frames, where the entry bars are
+high), so elsewhere sums[i] may hold a partial sum. bar[i] = 0 tests the threshold alone. Writes
+and reads whole vectors: sums and the scratch `need` hold n rounded up to 64, bar is readable
+that far, `vec` has room for n / 16 + 1 ints; reads as sumRuns16 does. */
+CV_EXPORTS int sumRunsPassing16(ushort* sums, const uchar* base, const int* off, int n_off, int n,
+                                const ushort* bar, ushort threshold, ushort scale, ushort* need,
+                                int* vec, int* hits);
 
 } // namespace detail
 } // namespace forestmod

@@ -27,8 +27,9 @@ void widenAdd(ushort* dst, const uchar* src, int n);
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
 void countLabels8(uchar* dst, const uchar* src, int n);
 void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok);
-int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort threshold,
-                       ushort scale, int* out);
+int sumRunsPassing16(ushort* sums, const uchar* base, const int* off, int n_off, int n,
+                     const ushort* bar, ushort threshold, ushort scale, ushort* need, int* vec,
+                     int* hits);
 
 #ifndef FORESTMOD_KERNELS_DECLARATIONS_ONLY
 
@@ -45,62 +46,6 @@ static inline int lowestBit(unsigned m)
         ++i;
     }
     return i;
-#endif
-}
-
-void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n)
-{
-    if (n_off == 0)
-    {
-        for (int j = 0; j < n; ++j)
-            out[j] = 0;
-        return;
-    }
-#if CV_SIMD
-    const int w = v_uint8::nlanes;
-    const int kTile = 8;  // vectors of positions per tile: 8 accumulators in registers
-    for (int x = 0; x < n; x += kTile * w)
-    {
-        const int left = (n - x + w - 1) / w;
-        const int nv = left < kTile ? left : kTile;
-        const uchar* b = base + x;
-        for (int k = 0; k < n_off;)
-        {
-            const bool first = k == 0;
-            const int end = n_off - k < 63 ? n_off : k + 63;
-            v_uint8 a[kTile];
-            for (int j = 0; j < kTile; ++j)
-                a[j] = vx_setzero_u8();
-            if (nv == kTile)
-                for (; k < end; ++k)
-                {
-                    const uchar* p = b + off[k];
-                    for (int j = 0; j < kTile; ++j)
-                        a[j] = v_add_wrap(a[j], vx_load(p + j * w));
-                }
-            else
-                for (; k < end; ++k)
-                {
-                    const uchar* p = b + off[k];
-                    for (int j = 0; j < nv; ++j)
-                        a[j] = v_add_wrap(a[j], vx_load(p + j * w));
-                }
-            for (int j = 0; j < nv; ++j)
-            {
-                ushort* d = out + x + j * w;
-                v_uint16 lo, hi;
-                v_expand(a[j], lo, hi);
-                v_store(d, first ? lo : vx_load(d) + lo);
-                v_store(d + w / 2, first ? hi : vx_load(d + w / 2) + hi);
-            }
-        }
-    }
-#else
-    for (int j = 0; j < n; ++j)
-        out[j] = 0;
-    for (int k = 0; k < n_off; ++k)
-        for (int j = 0; j < n; ++j)
-            out[j] = (ushort)(out[j] + base[off[k] + j]);
 #endif
 }
 
@@ -204,25 +149,167 @@ void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zer
         dst[k] = (uchar)(dst[k] + (src[k] ? (src[k] & labels) != 0 : zero_ok != 0));
 }
 
-int positionsPassing16(const ushort* src, const ushort* bar, int n, ushort threshold,
-                       ushort scale, int* out)
+// Asks the cache for the 256 bytes from p (the next tile's part of a run, when its vectors
+// follow this tile's: 2-3 % of the 8 LM-O objects' match(), where the runs are read from L3).
+// A hint: never faults, wherever p points.
+static inline void prefetchNextTile(const uchar* p)
 {
-    int k = 0, found = 0;
+#if defined(__GNUC__)
+    for (int b = 0; b < 256; b += 64)
+        __builtin_prefetch(p + b);
+#else
+    CV_UNUSED(p);
+#endif
+}
+
 #if CV_SIMD
-    const int w = v_uint16::nlanes;
-    const v_uint16 t = vx_setall_u16(threshold), s = vx_setall_u16(scale);
-    for (; k <= n - w; k += w)
+// sums[x .. x + w) += the runs off[k0 .. k1) from base + x, for the vectors of positions that
+// start at x = vec[0 .. n_vec) (ascending multiples of the vector width; kGathered false: every
+// vector from 0, vec unused): tiles of 8 of them, their 8-bit sums of up to 63 features in
+// registers, then widened (stored without adding on the first features: `fresh`).
+template <bool kGathered>
+static void addRunsAt(ushort* sums, const uchar* base, const int* off, int k0, int k1,
+                      const int* vec, int n_vec, bool fresh)
+{
+    const int w = v_uint8::nlanes;
+    const int kTile = 8;
+    for (int t = 0; t < n_vec; t += kTile)
     {
-        const v_uint16 v = vx_load(src + k);
-        // the passing lanes as bits, lowest lane first; one index written per set bit
-        unsigned mask = (unsigned)v_signmask((v > t) & (v >= v_mul_hi(vx_load(bar + k), s)));
+        const int nv = n_vec - t < kTile ? n_vec - t : kTile;
+        const int* x = vec + t;
+        const int x0 = t * w;
+        // the first position of the tile's vector j
+        auto at = [&](int j) { return kGathered ? x[j] : x0 + j * w; };
+        for (int k = k0; k < k1;)
+        {
+            const bool first = fresh && k == k0;
+            const int end = k1 - k < 63 ? k1 : k + 63;
+            v_uint8 a[kTile];
+            for (int j = 0; j < kTile; ++j)
+                a[j] = vx_setzero_u8();
+            if (nv == kTile)
+                for (; k < end; ++k)
+                {
+                    const uchar* p = base + off[k];
+                    prefetchNextTile(p + at(kTile - 1) + w);
+                    for (int j = 0; j < kTile; ++j)
+                        a[j] = v_add_wrap(a[j], vx_load(p + at(j)));
+                }
+            else
+                for (; k < end; ++k)
+                {
+                    const uchar* p = base + off[k];
+                    for (int j = 0; j < nv; ++j)
+                        a[j] = v_add_wrap(a[j], vx_load(p + at(j)));
+                }
+            for (int j = 0; j < nv; ++j)
+            {
+                ushort* d = sums + at(j);
+                v_uint16 lo, hi;
+                v_expand(a[j], lo, hi);
+                v_store(d, first ? lo : vx_load(d) + lo);
+                v_store(d + w / 2, first ? hi : vx_load(d + w / 2) + hi);
+            }
+        }
+    }
+}
+#endif
+
+void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n)
+{
+    if (n_off == 0)
+    {
+        for (int j = 0; j < n; ++j)
+            out[j] = 0;
+        return;
+    }
+#if CV_SIMD
+    const int w = v_uint8::nlanes;
+    addRunsAt<false>(out, base, off, 0, n_off, 0, (n + w - 1) / w, true);
+#else
+    for (int j = 0; j < n; ++j)
+        out[j] = 0;
+    for (int k = 0; k < n_off; ++k)
+        for (int j = 0; j < n; ++j)
+            out[j] = (ushort)(out[j] + base[off[k] + j]);
+#endif
+}
+
+int sumRunsPassing16(ushort* sums, const uchar* base, const int* off, int n_off, int n,
+                     const ushort* bar, ushort threshold, ushort scale, ushort* need, int* vec,
+                     int* hits)
+{
+    if (n_off == 0) // every sum 0: none passes
+        sumRuns16(sums, base, off, 0, n);
+    if (n <= 0 || n_off == 0)
+        return 0;
+    int found = 0;
+#if CV_SIMD
+    const int w = v_uint8::nlanes, h = v_uint16::nlanes;
+    int n_vec = (n + w - 1) / w;
+    // a position passes where its sum reaches need = max(threshold + 1, (bar x scale) >> 16)
+    const v_uint16 t1 = vx_setall_u16((ushort)(threshold + 1)), s = vx_setall_u16(scale);
+    for (int i = 0; i < n_vec; ++i)
+    {
+        vec[i] = i * w;
+        v_store(need + i * w, v_max(t1, v_mul_hi(vx_load(bar + i * w), s)));
+        v_store(need + i * w + h, v_max(t1, v_mul_hi(vx_load(bar + i * w + h), s)));
+    }
+    for (int k = 0;;)
+    {
+        // the next stage of kStage features, or every feature left if fewer than kLast would
+        // follow it
+        const int kStage = 24, kLast = 8;
+        const int k1 = n_off - k < kStage + kLast ? n_off : k + kStage;
+        addRunsAt<true>(sums, base, off, k, k1, vec, n_vec, k == 0);
+        if (k1 == n_off)
+            break;
+        // a vector stays while one of its positions may pass with the largest response (4)
+        // for every feature left
+        const int left = 4 * (n_off - k1);
+        const v_uint16 slack = vx_setall_u16((ushort)(left < 65535 ? left : 65535));
+        // (a lane reaches need where need - sum, saturated at 0, is 0: unsigned comparisons
+        // cost more)
+        const v_uint16 z = vx_setzero_u16();
+        int kept = 0;
+        for (int i = 0; i < n_vec; ++i)
+        {
+            const int x = vec[i];
+            const v_uint16 a = vx_load(need + x) - (vx_load(sums + x) + slack);
+            const v_uint16 b = vx_load(need + x + h) - (vx_load(sums + x + h) + slack);
+            if (v_check_any(v_min(a, b) == z))
+                vec[kept++] = x;
+        }
+        n_vec = kept;
+        k = k1;
+    }
+    // the passing lanes as bits, lowest lane first; one index written per set bit
+    for (int i = 0; i < n_vec; ++i)
+    {
+        const int x = vec[i];
+        const v_uint16 z = vx_setzero_u16();
+        unsigned mask = (unsigned)v_signmask(vx_load(need + x) - vx_load(sums + x) == z) |
+                        (unsigned)v_signmask(vx_load(need + x + h) - vx_load(sums + x + h) == z)
+                            << h;
+        if (n - x < w)
+            mask &= (1u << (n - x)) - 1u;
         for (; mask; mask &= mask - 1)
-            out[found++] = k + lowestBit(mask);
+            hits[found++] = x + lowestBit(mask);
+    }
+#else
+    CV_UNUSED(vec);
+    for (int j = 0; j < n; ++j)
+    {
+        unsigned sum = 0;
+        for (int k = 0; k < n_off; ++k)
+            sum += base[off[k] + j];
+        sums[j] = (ushort)sum;
+        const unsigned by_bar = (bar[j] * (unsigned)scale) >> 16;
+        need[j] = (ushort)(by_bar > threshold ? by_bar : threshold + 1u);
+        if (sums[j] >= need[j])
+            hits[found++] = j;
     }
 #endif
-    for (; k < n; ++k)
-        if (src[k] > threshold && src[k] >= (bar[k] * (unsigned)scale) >> 16)
-            out[found++] = k;
     return found;
 }
 

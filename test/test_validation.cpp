@@ -264,37 +264,82 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
         ASSERT_EQ(out[0][0][k], out[1][0][k]) << k;
         ASSERT_EQ(out[0][1][k], out[1][1][k]) << k;
     }
-    // the exhaustive search's scan: every position over the threshold and over its entry bar
-    // ((bar x scale) >> 16, the bar 0 on most positions) found, in order
-    std::vector<ushort> sc(203), bar(203, 0);
-    for (size_t k = 0; k < sc.size(); ++k)
+    setUseOptimized(was_optimized);
+    std::cout << "score kernels: " << kernelsPath() << std::endl;
+}
+
+
+// The exhaustive search's preemptive additions (sumRunsPassing16): every position whose full sum
+// passes the threshold and its entry bar is found, in order, with its full sum, though vectors of
+// positions leave between the stages of features; both instruction sets.
+TEST(Forestmod_Validation, preemptive_sums_find_every_passing_position)
+{
+    RNG rng(5);
+    const int n_max = 1000, run = n_max + 64;
+    const bool was_optimized = useOptimized();
+    for (int n_off : { 0, 5, 31, 32, 62, 94, 150 })
     {
-        sc[k] = (ushort)(k % 37 == 5 || k == 202 ? 1000 + k : rng.uniform(0, 1001));
-        if (k % 5 == 0 && k % 37 != 5) // random bars under the threshold
-            bar[k] = (ushort)rng.uniform(0, 65536);
-    }
-    bar[5] = 65535;  // 1005 < (65535 x 1200) >> 16 = 1199: refused by its bar
-    bar[42] = 56000; // 1042 >= (56000 x 1200) >> 16 = 1025: passes
-    for (int pass = 0; pass < 2; ++pass)
-    {
-        setUseOptimized(pass == 0);
-        for (int len : { 203, 202, 33, 1, 0 })
+        // run k holds the responses of feature k at the positions 0 .. n_max (+ 64 read beyond)
+        std::vector<uchar> base((size_t)std::max(n_off, 1) * run + LinearMemories::kSlack, 4);
+        std::vector<int> off(std::max(n_off, 1));
+        for (int k = 0; k < n_off; ++k)
+            off[k] = k * run;
+        for (int p = 0; p < n_max; ++p)
         {
-            std::vector<int> found(std::max(len, 1)), expect;
-            found.resize(positionsPassing16(&sc[0], &bar[0], len, 1000, 1200, &found[0]));
-            for (int c = 0; c < len; ++c)
-                if (sc[c] > 1000 && (int64)sc[c] * 65536 >= (int64)bar[c] * 1200 - 65535)
-                    expect.push_back(c);
-            EXPECT_EQ(expect, found) << "pass " << pass << " length " << len;
-            if (len == 203)
+            const int kind = p % 97 == 3 ? 0 : p % 89 == 7 ? 1 : p % 83 == 11 ? 2 : 3;
+            for (int k = 0; k < n_off; ++k)
             {
-                EXPECT_EQ(6u, found.size());
-                EXPECT_EQ(42, found[0]);
+                uchar v = (uchar)rng.uniform(0, 5); // clutter: about half the largest sum
+                if (kind == 0) // the object: every response the largest
+                    v = 4;
+                else if (kind == 1) // late: weak first features, then the largest
+                    v = k < 24 ? 2 : 4;
+                else if (kind == 2) // early: the largest first, then weak ones
+                    v = k < 24 ? 4 : 2;
+                base[(size_t)k * run + p] = v;
+            }
+        }
+        const int raw_thr = (int)(0.8 * 4 * n_off), scale = 4 * std::max(n_off, 1);
+        std::vector<ushort> bar(n_max + LinearMemories::kSlack, 0);
+        for (int p = 0; p < n_max; p += 7) // bars between 70 and 100 % of the largest sum
+            bar[p] = (ushort)rng.uniform(45875, 65536);
+        for (int n : { 1000, 203, 33, 1, 0 })
+        {
+            std::vector<int> expect;
+            std::vector<ushort> full(n);
+            for (int p = 0; p < n; ++p)
+            {
+                int sum = 0;
+                for (int k = 0; k < n_off; ++k)
+                    sum += base[(size_t)off[k] + p];
+                full[p] = (ushort)sum;
+                if (sum > raw_thr && (int64)sum * 65536 >= (int64)bar[p] * scale - 65535)
+                    expect.push_back(p);
+            }
+            for (int pass = 0; pass < 2; ++pass)
+            {
+                setUseOptimized(pass == 0);
+                std::vector<ushort> sums(n + 64), need(n + 64);
+                std::vector<int> vec(n / 16 + 1), hits(std::max(n, 1));
+                hits.resize(sumRunsPassing16(&sums[0], &base[0], &off[0], n_off, n, &bar[0],
+                                             (ushort)raw_thr, (ushort)scale, &need[0], &vec[0],
+                                             &hits[0]));
+                ASSERT_EQ(expect, hits) << "features " << n_off << " n " << n << " pass " << pass;
+                for (int p : hits)
+                    ASSERT_EQ(full[p], sums[p]) << "features " << n_off << " position " << p;
+            }
+            setUseOptimized(was_optimized);
+            if (n == 1000 && n_off > 0)
+            {
+                // the object's positions all pass; the late and early ones with 94 features
+                EXPECT_GE(expect.size(), 10u) << n_off;
+                if (n_off == 94)
+                {
+                    EXPECT_TRUE(std::count(expect.begin(), expect.end(), 7 + 89 * 3) == 1);
+                }
             }
         }
     }
-    setUseOptimized(was_optimized);
-    std::cout << "score kernels: " << kernelsPath() << std::endl;
 }
 
 }} // namespace
