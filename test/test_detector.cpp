@@ -369,6 +369,51 @@ TEST(Forestmod_Detector, exhaustive_groups_keep_the_best_of_the_exhaustive_searc
     }
 }
 
+// A template whose coarsest level holds 2 x 8192 features (the most a model may hold) sums beyond
+// 16 bits: the exhaustive search scores it with LINEMOD's similarity, position by position, and
+// still keeps the best of the linear search.
+TEST(Forestmod_Detector, exhaustive_search_of_a_template_beyond_16_bit_sums)
+{
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
+    DetectorParams p;
+    p.use_forest = false;
+    p.nms_iou = 0.f;
+    cv::forestmod::Detector source(mods, Tpyr(), p);
+    addObjectTemplates(source, 1, "L", 0);
+    // the coarsest level's features repeated up to 8192 per modality: the same similarity
+    std::vector<linemod::Template> t = source.getTemplates("L", 0);
+    const int M = (int)mods.size();
+    int total = 0;
+    for (int m = 0; m < M; ++m)
+    {
+        std::vector<linemod::Feature>& f = t[M + m].features;
+        ASSERT_FALSE(f.empty());
+        const size_t n = f.size();
+        while (f.size() < 8192)
+            f.push_back(f[f.size() % n]);
+        total += (int)f.size();
+    }
+    ASSERT_GT(total, 65535 / 4);
+    cv::forestmod::Detector det(mods, Tpyr(), p);
+    ASSERT_EQ(0, det.addSyntheticTemplate(t, "L"));
+    RNG rng(5);
+    Mat scene = clutter(Size(640, 480), rng);
+    drawObject(scene, 0, Point2f(300, 220), -40.f, 0.85f);
+    const std::vector<Mat> sources(M, scene);
+    std::vector<linemod::Match> ref, got;
+    det.match(sources, 70.f, ref);
+    ASSERT_FALSE(ref.empty());
+    EXPECT_LE(std::abs(ref[0].x + t[0].width / 2 - 300), 8);
+    p.use_forest = true;
+    p.exhaustive_ratio = 0.f;
+    det.setParams(p);
+    det.match(sources, 70.f, got);
+    ASSERT_FALSE(got.empty());
+    EXPECT_EQ(ref[0].x, got[0].x);
+    EXPECT_EQ(ref[0].y, got[0].y);
+    EXPECT_EQ(ref[0].similarity, got[0].similarity);
+}
+
 TEST(Forestmod_Detector, object_without_hue_is_learned_by_the_other_modalities)
 {
     const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
