@@ -239,16 +239,21 @@ int sumRunsPassing16(ushort* sums, const uchar* base, const int* off, int n_off,
                      const ushort* bar, ushort threshold, ushort scale, ushort* need, int* vec,
                      int* hits)
 {
-    if (n_off == 0) // every sum 0: none passes
-        sumRuns16(sums, base, off, 0, n);
-    if (n <= 0 || n_off == 0)
+    if (n <= 0)
         return 0;
+    if (n_off == 0) // every sum 0: none passes
+    {
+        for (int j = 0; j < n; ++j)
+            sums[j] = 0;
+        return 0;
+    }
     int found = 0;
 #if CV_SIMD
     const int w = v_uint8::nlanes, h = v_uint16::nlanes;
     int n_vec = (n + w - 1) / w;
     // a position passes where its sum reaches need = max(threshold + 1, (bar x scale) >> 16)
     const v_uint16 t1 = vx_setall_u16((ushort)(threshold + 1)), s = vx_setall_u16(scale);
+    const v_uint16 z = vx_setzero_u16();
     for (int i = 0; i < n_vec; ++i)
     {
         vec[i] = i * w;
@@ -270,7 +275,6 @@ int sumRunsPassing16(ushort* sums, const uchar* base, const int* off, int n_off,
         const v_uint16 slack = vx_setall_u16((ushort)(left < 65535 ? left : 65535));
         // (a lane reaches need where need - sum, saturated at 0, is 0: unsigned comparisons
         // cost more)
-        const v_uint16 z = vx_setzero_u16();
         int kept = 0;
         for (int i = 0; i < n_vec; ++i)
         {
@@ -287,7 +291,6 @@ int sumRunsPassing16(ushort* sums, const uchar* base, const int* off, int n_off,
     for (int i = 0; i < n_vec; ++i)
     {
         const int x = vec[i];
-        const v_uint16 z = vx_setzero_u16();
         unsigned mask = (unsigned)v_signmask(vx_load(need + x) - vx_load(sums + x) == z) |
                         (unsigned)v_signmask(vx_load(need + x + h) - vx_load(sums + x + h) == z)
                             << h;
