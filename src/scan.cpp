@@ -62,21 +62,23 @@ struct RowOutput
     std::vector<int> count;
     std::vector<int> rows;
     MatchCounters counters;
-    std::vector<int64> pairs;      //!< sample rows: [group] candidates counted
-    /** Sample rows: per location of the row the verdict of every group ([c * groups + g]);
-    its code is known once the exhaustive groups are. */
-    std::vector<short> verdicts;
 };
 
-// The sample rows' limits: a group leaves the scan (exhaustive search) once its pairs on the
-// sample, extrapolated by `scale`, pass `limit[g]` (exhaustive_ratio x templates x positions).
+// The sample's limits: a group leaves the scan (exhaustive search) once its pairs on the
+// sample, extrapolated by `scale[g]`, pass `limit[g]` (exhaustive_ratio x templates x positions).
+// Group g descends every stride[g]-th location of the sample (in row-major order), and its
+// scale counts the frame's locations per location descended.
 struct SampleLimits
 {
     std::vector<int64> pairs;      //!< [group]: counted on the sample rows scanned before
     std::vector<double> limit;     //!< [group]
-    double scale;
+    std::vector<double> scale;     //!< [group]
+    std::vector<int> stride;       //!< [group]
 
-    bool passed(int g, int64 more) const { return (double)(pairs[g] + more) * scale > limit[g]; }
+    bool passed(int g, int64 more) const
+    {
+        return (double)(pairs[g] + more) * scale[g] > limit[g];
+    }
 };
 
 // Per worker: the candidates of a location as a bit set over the index rows (the leaves of every
@@ -94,7 +96,6 @@ struct ScanScratch
     std::vector<ushort> count16;
     std::vector<uchar> flat, root_ok;
     std::vector<short> verdict;    //!< [group]: the location's verdicts (visitGroups)
-    std::vector<uchar> cut;        //!< [group]: passed its sample limit within this row
 };
 
 } // namespace
@@ -258,75 +259,84 @@ static int locationCode(const ScanContext& ctx, const short* verdict, int c, int
     return deepest >= 0 ? deepest : flat ? FLAT : DEPTH_RANGE;
 }
 
-// Every active search group (not cut in this row): out of its depth range, a flat window, or its
-// forest (every tree);
-// each group's verdict goes to s.verdict, the candidates of the accepting groups are the union
-// of their accepting trees' leaves (as index rows, marked in s.bits). Returns whether one group
-// accepted (marked rows).
-static bool visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch& s)
+// Gathers a window's values (one per dimension of its group) and counts the labelled ones.
+static int gatherWindow(const std::vector<const uchar*>& ptr, ptrdiff_t offset, uchar* values)
+{
+    int labelled = 0;
+    for (size_t j = 0; j < ptr.size(); ++j)
+    {
+        values[j] = ptr[j][offset];
+        labelled += values[j] != 0;
+    }
+    return labelled;
+}
+
+// Group gi's verdict on location (c, r): out of its depth range, a flat window, or its forest
+// (every tree). An accepting group's leaves go to s.leaves. `row_tested`: the flat window and the
+// roots were tested on the whole row (rowTests, in s); else they are tested here.
+static short visitGroup(const ScanContext& ctx, int gi, int c, int r, int W, ScanScratch& s,
+                        bool row_tested)
 {
     const ScenePyramid& scene = *ctx.scene;
+    const SearchGroup& grp = *ctx.groups[gi];
+    if (outOfDepthRange(ctx, gi, c, r))
+        return DEPTH_RANGE;
+    if (row_tested && s.flat[gi * W + c])
+        return FLAT;
+    // the window's values, gathered for the first tree whose root passes, once for all trees
+    uchar* values = &s.values[0];
+    bool gathered = false;
+    const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
+    const ptrdiff_t offset = (ptrdiff_t)r * ctx.S * (ptrdiff_t)scene.plane_step + c * ctx.S;
+    if (!row_tested)
+    {
+        gathered = true;
+        if (gatherWindow(ptr, offset, values) < ctx.min_labels[gi])
+            return FLAT;
+    }
+    // the trees (TemplateForest::query's rule): with reject_any_tree one rejecting tree
+    // rejects, else the location stays while one tree accepts it
+    s.leaves.clear();
+    int rdepth = -1;
+    for (int t = 0; t < ctx.trees[gi]; ++t)
+    {
+        const int* ids = 0;
+        int n = 0, depth = 0; // a root rejector that fails rejects at depth 0
+        const bool root_tested = row_tested && ctx.roots[gi][t].min_accept > 0;
+        const bool root_ok = !row_tested
+            || s.root_ok[((size_t)gi * ctx.max_trees + t) * W + c] != 0;
+        if (root_ok && !gathered)
+        {
+            gatherWindow(ptr, offset, values);
+            gathered = true;
+        }
+        if (root_ok && grp.forest->leaf(t, values, ids, n, &depth, root_tested))
+            s.leaves.push_back(std::make_pair(ids, n));
+        else
+        {
+            rdepth = std::max(rdepth, depth);
+            if (ctx.any_tree[gi])
+                return (short)rdepth;
+        }
+    }
+    return s.leaves.empty() ? (short)rdepth : (short)ACCEPTED;
+}
+
+// Every active search group's verdict (visitGroup) goes to s.verdict; the candidates of the
+// accepting groups are the union of their accepting trees' leaves (as index rows, marked in
+// s.bits). Returns whether one group accepted (marked rows).
+static bool visitGroups(const ScanContext& ctx, int c, int r, int W, ScanScratch& s)
+{
     const int NG = (int)ctx.groups.size();
     bool marked = false;
     for (int gi = 0; gi < NG; ++gi)
     {
         short& verdict = s.verdict[gi];
-        verdict = NOT_VISITED;
-        if (!ctx.active[gi] || s.cut[gi])
+        verdict = ctx.active[gi] ? visitGroup(ctx, gi, c, r, W, s, true) : (short)NOT_VISITED;
+        if (verdict != ACCEPTED)
             continue;
-        const SearchGroup& grp = *ctx.groups[gi];
-        if (outOfDepthRange(ctx, gi, c, r))
-        {
-            verdict = DEPTH_RANGE;
-            continue;
-        }
-        if (s.flat[gi * W + c])
-        {
-            verdict = FLAT;
-            continue;
-        }
-        // the trees (TemplateForest::query's rule): with reject_any_tree one rejecting tree
-        // rejects, else the location stays while one tree accepts it. The window's values are
-        // gathered for the first tree whose root passes, once for all trees.
-        s.leaves.clear();
-        int rdepth = -1;
-        bool rejected_any = false, gathered = false;
-        uchar* values = &s.values[0];
-        for (int t = 0; t < ctx.trees[gi]; ++t)
-        {
-            const int* ids = 0;
-            int n = 0, depth = 0; // a root rejector that fails rejects at depth 0
-            const bool root_ok = s.root_ok[((size_t)gi * ctx.max_trees + t) * W + c] != 0;
-            if (root_ok && !gathered)
-            {
-                const ptrdiff_t offset = (ptrdiff_t)r * ctx.S * (ptrdiff_t)scene.plane_step
-                    + c * ctx.S;
-                const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
-                for (size_t j = 0; j < ptr.size(); ++j)
-                    values[j] = ptr[j][offset];
-                gathered = true;
-            }
-            if (root_ok && grp.forest->leaf(t, values, ids, n, &depth,
-                                            ctx.roots[gi][t].min_accept > 0))
-                s.leaves.push_back(std::make_pair(ids, n));
-            else
-            {
-                rdepth = std::max(rdepth, depth);
-                if (ctx.any_tree[gi])
-                {
-                    rejected_any = true;
-                    break;
-                }
-            }
-        }
-        if (rejected_any || s.leaves.empty())
-        {
-            verdict = (short)rdepth;
-            continue;
-        }
-        verdict = ACCEPTED;
         marked = true;
-        const int* rows = &grp.rows[0];
+        const int* rows = &ctx.groups[gi]->rows[0];
         uint64* bits = &s.bits[0];
         for (size_t k = 0; k < s.leaves.size(); ++k)
         {
@@ -370,31 +380,19 @@ static inline int lowestBit(uint64 w)
 #endif
 }
 
-// One row of locations. A sample row (`sample` given) counts the candidates of each group in
-// out.pairs, leaves a group out of the rest of the row once it passes its limit (it is searched
-// exhaustively whatever the other locations hold) and keeps the groups' verdicts for the
-// location codes, which wait for the exhaustive groups to be known.
+// One row of locations through the active groups: each location's code, and the candidates of
+// those that a group accepts.
 static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& out,
-                    ScanScratch& s, const SampleLimits* sample)
+                    ScanScratch& s)
 {
     const std::vector<uchar>& allowed = *ctx.row_allowed;
     const int words = (int)s.bits.size();
-    const int NG = (int)ctx.groups.size();
-    std::fill(s.cut.begin(), s.cut.end(), (uchar)0);
-    if (sample)
-    {
-        out.pairs.assign(NG, 0);
-        out.verdicts.resize((size_t)W * NG);
-    }
     rowTests(ctx, r, W, s);
     for (int c = 0; c < W; ++c)
     {
         const bool marked = visitGroups(ctx, c, r, W, s);
-        if (sample)
-            std::copy(s.verdict.begin(), s.verdict.begin() + NG, &out.verdicts[(size_t)c * NG]);
-        else
-            countCode(marked ? ACCEPTED : locationCode(ctx, &s.verdict[0], c, r), c, r, map,
-                      out.counters);
+        countCode(marked ? ACCEPTED : locationCode(ctx, &s.verdict[0], c, r), c, r, map,
+                  out.counters);
         if (!marked) // no group on the forest path accepted it: no candidates, no bit set
             continue;
         // the marked rows, ascending; the bit set is cleared for the next location
@@ -413,14 +411,8 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
                     continue;
                 out.rows.push_back(row);
                 ++n;
-                if (sample)
-                    out.pairs[ctx.group_of_row[row]]++;
             }
         }
-        if (sample)
-            for (int g = 0; g < NG; ++g)
-                if (ctx.active[g] && !s.cut[g] && sample->passed(g, out.pairs[g]))
-                    s.cut[g] = 1;
         if (n == 0)
             continue;
         out.location.push_back(Point(c, r));
@@ -430,91 +422,108 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
     }
 }
 
-// Scans the given rows of locations in parallel (as sample rows when `sample` is given).
+static ScanScratch scanScratch(const ScanContext& ctx, int W)
+{
+    ScanScratch s;
+    s.bits.assign((ctx.index->rows.size() + 63) / 64, 0);
+    size_t D = 1;
+    for (size_t g = 0; g < ctx.dim_ptr.size(); ++g)
+        D = std::max(D, ctx.dim_ptr[g].size());
+    s.values.resize(D);
+    const size_t X = (size_t)(W - 1) * ctx.S + 1;
+    s.count8.resize(X);
+    s.count16.resize(X);
+    s.flat.resize(ctx.groups.size() * W + 1);
+    s.root_ok.resize(ctx.groups.size() * ctx.max_trees * W + 1);
+    s.verdict.resize(ctx.groups.size() + 1);
+    return s;
+}
+
+// Scans the given rows of locations in parallel.
 static void scanRows(const ScanContext& ctx, const std::vector<int>& which, int W, Mat* map,
-                     std::vector<RowOutput>& rows, const SampleLimits* sample)
+                     std::vector<RowOutput>& rows)
 {
     parallel_for_(Range(0, (int)which.size()), [&](const Range& range) {
-        ScanScratch s;
-        s.bits.assign((ctx.index->rows.size() + 63) / 64, 0);
-        size_t D = 1;
-        for (size_t g = 0; g < ctx.dim_ptr.size(); ++g)
-            D = std::max(D, ctx.dim_ptr[g].size());
-        s.values.resize(D);
-        const size_t X = (size_t)(W - 1) * ctx.S + 1;
-        s.count8.resize(X);
-        s.count16.resize(X);
-        s.flat.resize(ctx.groups.size() * W + 1);
-        s.root_ok.resize(ctx.groups.size() * ctx.max_trees * W + 1);
-        s.verdict.resize(ctx.groups.size() + 1);
-        s.cut.resize(ctx.groups.size() + 1);
+        ScanScratch s = scanScratch(ctx, W);
         for (int i = range.start; i < range.end; ++i)
-            scanRow(ctx, which[i], W, map, rows[which[i]], s, sample);
+            scanRow(ctx, which[i], W, map, rows[which[i]], s);
     });
 }
 
-// The sample rows once the exhaustive groups are known: their locations' codes and counters from
-// the groups that stay (as the other rows'), and they lose the candidates of the groups searched
-// exhaustively.
-static void finishSampleRows(const ScanContext& ctx, const std::vector<int>& sample, int W,
-                             Mat* map, std::vector<RowOutput>& rows)
+// The asked-for candidates in the union of s.leaves (group gi's accepting trees); s.bits is
+// left clear.
+static int unionSize(const ScanContext& ctx, int gi, ScanScratch& s)
 {
-    const int NG = (int)ctx.groups.size();
-    for (size_t i = 0; i < sample.size(); ++i)
+    const std::vector<uchar>& allowed = *ctx.row_allowed;
+    const int* rows = &ctx.groups[gi]->rows[0];
+    int n = 0;
+    if (s.leaves.size() == 1)
     {
-        const int r = sample[i];
-        RowOutput& ro = rows[r];
-        for (int c = 0; c < W; ++c)
+        for (int i = 0; i < s.leaves[0].second; ++i)
+            n += allowed[rows[s.leaves[0].first[i]]] != 0;
+        return n;
+    }
+    uint64* bits = &s.bits[0];
+    for (size_t k = 0; k < s.leaves.size(); ++k)
+        for (int i = 0; i < s.leaves[k].second; ++i)
         {
-            short* v = &ro.verdicts[(size_t)c * NG];
-            for (int g = 0; g < NG; ++g)
-                if (!ctx.active[g])
-                    v[g] = NOT_VISITED;
-            countCode(locationCode(ctx, v, c, r), c, r, map, ro.counters);
+            const int row = rows[s.leaves[k].first[i]];
+            const uint64 bit = (uint64)1 << (row & 63);
+            if (!(bits[row >> 6] & bit) && allowed[row])
+                ++n;
+            bits[row >> 6] |= bit;
         }
-        size_t k = 0, j = 0, kept_locations = 0;
-        for (size_t l = 0; l < ro.location.size(); ++l)
+    for (size_t k = 0; k < s.leaves.size(); ++k)
+        for (int i = 0; i < s.leaves[k].second; ++i)
+            s.bits[rows[s.leaves[k].first[i]] >> 6] = 0;
+    return n;
+}
+
+// Sample row i (row r of locations): the pairs each active group lets through at the sample's
+// locations it descends (every stride-th, row-major over the sample), until the group passes its
+// limit (the count only grows, so it is searched exhaustively whatever the rest holds).
+static void sampleRow(const ScanContext& ctx, int i, int r, int W, const SampleLimits& limits,
+                      ScanScratch& s, int64* pairs)
+{
+    for (int g = 0; g < (int)ctx.groups.size(); ++g)
+    {
+        if (!ctx.active[g])
+            continue;
+        const int stride = limits.stride[g];
+        const int64 first = (int64)i * W;
+        for (int c = (int)((stride - first % stride) % stride); c < W; c += stride)
         {
-            int n = 0;
-            for (int e = 0; e < ro.count[l]; ++e, ++j)
-                if (ctx.active[ctx.group_of_row[ro.rows[j]]])
-                {
-                    ro.rows[k++] = ro.rows[j];
-                    ++n;
-                }
-            ro.counters.candidates -= ro.count[l] - n;
-            if (n == 0)
-            {
-                --ro.counters.validated;
+            if (visitGroup(ctx, g, c, r, W, s, false) != ACCEPTED)
                 continue;
-            }
-            ro.location[kept_locations] = ro.location[l];
-            ro.count[kept_locations++] = n;
+            pairs[g] += unionSize(ctx, g, s);
+            if (limits.passed(g, pairs[g]))
+                break;
         }
-        ro.rows.resize(k);
-        ro.location.resize(kept_locations);
-        ro.count.resize(kept_locations);
     }
 }
 
 // The sample rows through the active groups, as many rows at a time as there are threads: a
-// group that passes its limit on the rows scanned so far leaves the following ones (and the rest
-// of a row as soon as that row alone passes it: its count only grows) and ctx.active. The
-// decisions are those of the whole sample, whatever the threads.
-static void sampleGroups(ScanContext& ctx, const std::vector<int>& sample, int W, Mat* map,
-                         std::vector<RowOutput>& rows, SampleLimits limits)
+// group that passes its limit on the rows sampled so far leaves the following ones and
+// ctx.active. The decisions are those of the whole sample, whatever the threads.
+static void sampleGroups(ScanContext& ctx, const std::vector<int>& sample, int W,
+                         SampleLimits limits)
 {
     const int NG = (int)ctx.groups.size();
-    const size_t batch = (size_t)std::max(1, getNumThreads());
-    for (size_t b = 0; b < sample.size(); b += batch)
+    const int batch = std::max(1, getNumThreads());
+    std::vector<int64> pairs((size_t)batch * NG);
+    for (int b = 0; b < (int)sample.size(); b += batch)
     {
-        const std::vector<int> part(sample.begin() + b,
-                                    sample.begin() + std::min(sample.size(), b + batch));
-        scanRows(ctx, part, W, map, rows, &limits);
+        const int n = std::min((int)sample.size() - b, batch);
+        std::fill(pairs.begin(), pairs.end(), (int64)0);
+        parallel_for_(Range(0, n), [&](const Range& range) {
+            ScanScratch s = scanScratch(ctx, W);
+            for (int k = range.start; k < range.end; ++k)
+                sampleRow(ctx, b + k, sample[b + k], W, limits, s, &pairs[(size_t)k * NG]);
+        });
         for (int g = 0; g < NG; ++g)
         {
-            for (size_t i = 0; i < part.size(); ++i)
-                limits.pairs[g] += rows[part[i]].pairs[g];
+            for (int k = 0; k < n; ++k)
+                limits.pairs[g] += pairs[(size_t)k * NG + g];
             if (ctx.active[g] && limits.passed(g, 0))
                 ctx.active[g] = 0;
         }
@@ -538,8 +547,7 @@ static void sampleFirstTrees(ScanContext& ctx, const std::vector<int>& sample, i
     ScanContext first = ctx;
     first.active = tried;
     std::fill(first.trees.begin(), first.trees.end(), 1);
-    std::vector<RowOutput> rows(*std::max_element(sample.begin(), sample.end()) + 1);
-    sampleGroups(first, sample, W, 0, rows, limits);
+    sampleGroups(first, sample, W, limits);
     for (int g = 0; g < NG; ++g)
         if (tried[g] && !first.active[g])
             ctx.active[g] = 0;
@@ -570,12 +578,17 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
 
     // 1. the sample rows (every kSample-th) through every group; a group whose forest lets
     //    through more pairs than exhaustive_ratio x templates x positions (extrapolated to the
-    //    frame) is searched exhaustively and leaves the scan
-    const int kSample = 8;
-    std::vector<int> sample, rest;
+    //    frame) is searched exhaustively and leaves the scan. A group descends every stride-th
+    //    location of the sample, the stride such that its limit stays kDecisionPairs pairs or
+    //    more on the locations descended (large groups decide after a few dozen descents).
+    const int kSample = 8, kDecisionPairs = 512;
+    std::vector<int> sample, all(H);
     for (int r = 0; r < H; ++r)
-        (ratio > 0.f && (r % kSample == kSample / 2 || (H <= kSample / 2 && r == H / 2))
-             ? sample : rest).push_back(r);
+    {
+        all[r] = r;
+        if (ratio > 0.f && (r % kSample == kSample / 2 || (H <= kSample / 2 && r == H / 2)))
+            sample.push_back(r);
+    }
     if (ratio == 0.f)
     {
         for (int g = 0; g < NG; ++g)
@@ -584,20 +597,27 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
     else if (!sample.empty())
     {
         SampleLimits limits;
-        limits.scale = (double)H / sample.size();
         limits.pairs.assign(NG, 0);
         limits.limit.resize(NG);
+        limits.scale.resize(NG);
+        limits.stride.resize(NG);
+        const double frame_per_sample = (double)H / sample.size();
         for (int g = 0; g < NG; ++g)
+        {
             limits.limit[g] = ratio * (double)templates[g] * positions;
+            const double on_sample = limits.limit[g] / frame_per_sample;
+            limits.stride[g] = (int)std::max(1.0, std::min((double)W * sample.size(),
+                                                            on_sample / kDecisionPairs));
+            limits.scale[g] = frame_per_sample * limits.stride[g];
+        }
         sampleFirstTrees(ctx, sample, W, limits);
-        sampleGroups(ctx, sample, W, map, rows, limits);
+        sampleGroups(ctx, sample, W, limits);
     }
     if (ratio >= 0.f)
         for (int g = 0; g < NG; ++g)
             out.exhaustive[ctx.group_index[g]] = !ctx.active[g] && templates[g] > 0;
-    finishSampleRows(ctx, sample, W, map, rows);
-    // 2. the other rows through the groups that stay
-    scanRows(ctx, rest, W, map, rows, 0);
+    // 2. every row through the groups that stay
+    scanRows(ctx, all, W, map, rows);
 
     out.begin.push_back(0);
     for (int r = 0; r < H; ++r)

@@ -41,13 +41,13 @@ struct LocationCandidates
 /** Scans the coarsest level. row_allowed: per index row, whether its class was asked for;
 the depth-range test runs per group when the scene has depth cells
 (DetectorParams::depth_range_tolerance >= 0).
-With DetectorParams::exhaustive_ratio > 0, every 8th row of locations goes first through every
-group; the groups whose forest let more (location, candidate) pairs through there than the ratio
-allows (extrapolated to the frame) are marked `exhaustive` and left out of the other rows (they
-give no candidates, in the sample rows as in the others; a location within such a group's depth
-range is not counted as rejected, since the exhaustive search scores it). A
-group leaves the sample as soon as the rows scanned so far pass its limit. 0: every group
-exhaustive, no forest. */
+With DetectorParams::exhaustive_ratio > 0, every 8th row of locations is first a sample: each
+group descends every k-th of its locations (k >= 1 such that its limit, scaled to the locations
+descended, stays at least 512 pairs) until the (location, candidate) pairs it lets through,
+extrapolated to the frame, pass the ratio's limit; such groups are marked `exhaustive` and left
+out of the scan (they give no candidates; a location within such a group's depth range is not
+counted as rejected, since the exhaustive search scores it). Then every row goes through the
+groups that stay. 0: every group exhaustive, no forest. */
 void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
                    const DetectorParams& params, const std::vector<uchar>& row_allowed,
                    bool rejection_map, LocationCandidates& out);

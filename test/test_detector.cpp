@@ -369,6 +369,58 @@ TEST(Forestmod_Detector, exhaustive_groups_keep_the_best_of_the_exhaustive_searc
     }
 }
 
+// The scan decides per frame and search group between the forest path and the exhaustive search
+// from the (location, candidate) pairs of a sample of its locations; a group whose limit is many
+// pairs descends only every k-th location of the sample and extrapolates. A ratio 4x below the
+// group's pairs per (template, position) over the frame sends it to the exhaustive search; 4x
+// above keeps it on the forest path, with the candidates of every location (the sample's too).
+TEST(Forestmod_Detector, exhaustive_decision_from_a_strided_sample)
+{
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
+    DetectorParams p;
+    p.forest.num_trees = 1;
+    p.forest.max_depth = 2;     // large leaves and no rejectors: most locations pass, with many
+    p.forest.rejector_dims = 0; // candidates each, so that the sample's limit is many pairs
+    p.group_size_ratio = 2.f;   // one search group
+    cv::forestmod::Detector det(mods, Tpyr(), p);
+    addObjectTemplates(det, 60, "L", 0);
+    det.train();
+    ASSERT_EQ(1, det.numSearchGroups());
+    const Size size(1280, 960);
+    const double positions = (size.width / 16) * (size.height / 16); // T grid of the coarsest level
+    for (int seed = 1; seed <= 3; ++seed)
+    {
+        SCOPED_TRACE(seed);
+        RNG rng(seed);
+        Mat scene = clutter(size, rng);
+        drawObject(scene, 0, Point2f(500.f, 400.f), 10.f, 1.0f);
+        const std::vector<Mat> sources(mods.size(), scene);
+        std::vector<linemod::Match> matches;
+        DetectionStats all, below, above;
+        p.exhaustive_ratio = -1.f;
+        det.setParams(p);
+        det.match(sources, 80.f, matches, std::vector<String>(), noArray(), std::vector<Mat>(),
+                  &all);
+        const double ratio = all.candidates / (60 * positions);
+        // the sample's limit for the ratio below: ~all.candidates / 4 / 8.6 pairs, descended at
+        // every k-th location for k = that / 512 (src/scan.cpp), at least 5
+        ASSERT_GT(all.candidates, 5 * 4 * 9 * 512) << "the group's limit must be many pairs";
+        p.exhaustive_ratio = (float)(ratio / 4);
+        det.setParams(p);
+        det.match(sources, 80.f, matches, std::vector<String>(), noArray(), std::vector<Mat>(),
+                  &below);
+        EXPECT_EQ(0, below.candidates);
+        EXPECT_EQ(0, below.validated);
+        p.exhaustive_ratio = (float)(ratio * 4);
+        det.setParams(p);
+        det.match(sources, 80.f, matches, std::vector<String>(), noArray(), std::vector<Mat>(),
+                  &above);
+        EXPECT_EQ(all.candidates, above.candidates);
+        EXPECT_EQ(all.validated, above.validated);
+        EXPECT_EQ(all.rejected, above.rejected);
+    }
+}
+
 // A template whose coarsest level holds 2 x 8192 features (the most a model may hold) sums beyond
 // 16 bits: the exhaustive search scores it with LINEMOD's similarity, position by position, and
 // still keeps the best of the linear search.
