@@ -402,9 +402,10 @@ TEST(Forestmod_Detector, exhaustive_decision_from_a_strided_sample)
         det.match(sources, 80.f, matches, std::vector<String>(), noArray(), std::vector<Mat>(),
                   &all);
         const double ratio = all.candidates / (60 * positions);
-        // the sample's limit for the ratio below: ~all.candidates / 4 / 8.6 pairs, descended at
-        // every k-th location for k = that / 512 (src/scan.cpp), at least 5
-        ASSERT_GT(all.candidates, 5 * 4 * 9 * 512) << "the group's limit must be many pairs";
+        // the sample's limit for the ratio below: all.candidates / 4 pairs over the frame, / 8 on
+        // the sample (every 8th row), descended at every k-th location for k = that / 512
+        // (src/scan.cpp): at least 5 here
+        ASSERT_GT(all.candidates, 5 * 4 * 8 * 512) << "the group's limit must be many pairs";
         p.exhaustive_ratio = (float)(ratio / 4);
         det.setParams(p);
         det.match(sources, 80.f, matches, std::vector<String>(), noArray(), std::vector<Mat>(),
