@@ -11,6 +11,7 @@
 #include "precomp.hpp"
 #include "exhaustive_search.hpp"
 #include "score_kernels.hpp"
+#include <deque>
 
 namespace cv {
 namespace forestmod {
@@ -241,6 +242,60 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
     }
 }
 
+namespace {
+// The best lists and entry bars of the exhaustive search's workers: a worker takes a slot for
+// the blocks of one call and gives it back, so there are as many slots as calls at once (the
+// threads), and a slot's bars rise with every template scored into it.
+class WorkerLists
+{
+public:
+    struct Slot
+    {
+        std::vector<Scored> best;
+        std::vector<ushort> bar; //!< read in whole vectors by the additions' kernel
+    };
+    WorkerLists(size_t lists, size_t bars) : lists_(lists), bars_(bars) {}
+    Slot& take()
+    {
+        AutoLock lock(mutex_);
+        if (free_.empty())
+        {
+            const Scored none = { 0, 1, -1 };
+            slots_.emplace_back();
+            slots_.back().best.assign(lists_, none);
+            slots_.back().bar.assign(bars_ + LinearMemories::kSlack, 0);
+            free_.push_back(&slots_.back());
+        }
+        Slot* s = free_.back();
+        free_.pop_back();
+        return *s;
+    }
+    void give(Slot& s)
+    {
+        AutoLock lock(mutex_);
+        free_.push_back(&s);
+    }
+    /** Every slot's lists of K merged into the first slot's (the slots are all given back). */
+    std::vector<Scored>& merged(int K)
+    {
+        if (slots_.empty())
+            give(take());
+        std::deque<Slot>::iterator first = slots_.begin();
+        for (std::deque<Slot>::iterator it = first + 1; it != slots_.end(); ++it)
+            for (size_t p = 0; p < lists_; p += K)
+                for (int k = 0; k < K && it->best[p + k].row >= 0; ++k)
+                    keepBest(&first->best[p], K, it->best[p + k]);
+        return first->best;
+    }
+
+private:
+    size_t lists_, bars_;
+    Mutex mutex_;
+    std::deque<Slot> slots_; // stable addresses
+    std::vector<Slot*> free_;
+};
+} // namespace
+
 // keep: max_survivors for each of the (T / step)^2 locations of the forest path that a cell of
 // the T grid holds (validateLocations).
 void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
@@ -259,29 +314,25 @@ void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
     lm.build(top);
     const int P = lm.cells_x * lm.cells_y;
     const int n = static_cast<int>(rows.size());
-    // templates in a fixed number of blocks; the blocks of one call of the body share the best
-    // lists (and so the entry bars) of its first block, the lists are merged afterwards: a
-    // position's best K of a union are the best K of its parts' best K, however the blocks fall
-    // to the threads (Scored::better is a total order)
-    const int blocks = std::max(1, std::min(n, 4 * getNumThreads()));
-    Scored none = { 0, 1, -1 };
-    std::vector<std::vector<Scored> > best(blocks, std::vector<Scored>((size_t)P * K, none));
+    // templates in blocks taken by the threads as they free up, each thread's templates into
+    // best lists (and so entry bars) of its own, which rise with every template it scores; the
+    // lists are merged afterwards: a position's best K of a union are the best K of its parts'
+    // best K, however the blocks fall to the threads (Scored::better is a total order)
+    const int blocks = std::max(1, std::min(n, 16 * getNumThreads()));
+    WorkerLists lists((size_t)P * K, (size_t)lm.stride * lm.cells_y);
     parallel_for_(Range(0, blocks), [&](const Range& range) {
-        // read in whole vectors by the additions' kernel
-        std::vector<ushort> bar((size_t)lm.stride * lm.cells_y + LinearMemories::kSlack, 0);
+        WorkerLists::Slot& slot = lists.take();
         for (int b = range.start; b < range.end; ++b)
             searchTemplates(top, L, lm, index, pyramids, rows, (int)((int64)n * b / blocks),
                             (int)((int64)n * (b + 1) / blocks), threshold, K, cells,
-                            depth_tolerance, &best[range.start][0], &bar[0]);
-    });
-    for (int b = 1; b < blocks; ++b)
-        for (int p = 0; p < P; ++p)
-            for (int k = 0; k < K && best[b][(size_t)p * K + k].row >= 0; ++k)
-                keepBest(&best[0][(size_t)p * K], K, best[b][(size_t)p * K + k]);
+                            depth_tolerance, &slot.best[0], &slot.bar[0]);
+        lists.give(slot);
+    }, blocks);
+    std::vector<Scored>& best = lists.merged(K);
     for (int p = 0; p < P; ++p)
         for (int k = 0; k < K; ++k)
         {
-            const Scored& sc = best[0][(size_t)p * K + k];
+            const Scored& sc = best[(size_t)p * K + k];
             if (sc.row < 0)
                 break;
             const TemplateRef& ref = index.rows[sc.row];

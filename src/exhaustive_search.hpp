@@ -36,8 +36,9 @@ position of the coarsest level's T grid where it fits (cv::linemod's positions a
 when the scene has depth cells (ScenePyramid::depth_cells), where the scene depth around its
 centre reaches into its depth samples' range widened by `depth_tolerance`; each
 position keeps its best `keep` templates over the threshold as coarse matches, appended to `out`
-(row-major positions, best first). The templates are scored in a fixed number of blocks, each
-with its own best lists, merged afterwards: the result does not depend on the threads. */
+(row-major positions, best first). The templates are scored in blocks that the threads take as
+they free up, each thread into best lists of its own, merged afterwards: the result does not
+depend on the threads. */
 void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
                       const ClassPyramids& pyramids, const std::vector<int>& rows,
                       float threshold, int keep, float depth_tolerance,

@@ -151,14 +151,14 @@ void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
 {
     const bool use_depth = !scene.depth_ctx.empty();
     std::vector<uchar> keep(matches.size(), 0);
-    // LINEMOD's linearized memories of the refinement levels (vectorised local search)
+    // LINEMOD's linearized memories of the refinement levels (vectorised local search), level by
+    // level, each built in parallel over its cell rows (a parallel loop over the levels would
+    // make that one nested, and OpenCV runs nested loops serially)
     std::vector<LinearMemories> linear(scene.levels.size());
     if (!matches.empty())
-        parallel_for_(Range(0, (int)scene.levels.size() - 1), [&](const Range& range) {
-            for (int l = range.start; l < range.end; ++l)
-                linear[l].build(scene.levels[l], scene.tiles[l],
-                                Size(ScenePyramid::TILE_W, ScenePyramid::TILE_H));
-        });
+        for (size_t l = 0; l + 1 < scene.levels.size(); ++l)
+            linear[l].build(scene.levels[l], scene.tiles[l],
+                            Size(ScenePyramid::TILE_W, ScenePyramid::TILE_H));
     parallel_for_(Range(0, (int)matches.size()), [&](const Range& range) {
         for (int k = range.start; k < range.end; ++k)
         {
