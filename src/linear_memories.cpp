@@ -15,27 +15,61 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
+// The pixels of cells [c0, c1) of a row, T per cell, by their offset dx in the cell:
+// gathered[dx * n + k] = src[(c0 + k) T + dx] (the cells' pixels read in order, T known to the
+// compiler for LINEMOD's usual T).
+template <int T>
+static void gatherCellsT(const uchar* src, int c0, int c1, int n, uchar* gathered)
+{
+    for (int k = 0; k < c1 - c0; ++k)
+    {
+        const uchar* s = src + (c0 + k) * T;
+        for (int dx = 0; dx < T; ++dx)
+            gathered[dx * n + k] = s[dx];
+    }
+}
+
+static void gatherCells(const uchar* src, int T, int c0, int c1, int n, uchar* gathered)
+{
+    switch (T)
+    {
+    case 4: gatherCellsT<4>(src, c0, c1, n, gathered); return;
+    case 5: gatherCellsT<5>(src, c0, c1, n, gathered); return;
+    case 8: gatherCellsT<8>(src, c0, c1, n, gathered); return;
+    default:
+        for (int dx = 0; dx < T; ++dx)
+            for (int k = 0; k < c1 - c0; ++k)
+                gathered[dx * n + k] = src[(c0 + k) * T + dx];
+    }
+}
+
 // Cell columns [c0, c1] of cell row `cy` of one modality's memories (`row`: label 0, offset
 // (0, 0), that cell row; `plane` between consecutive offsets): the responses of the spread
 // pixels (cx T + dx, cy T + dy) inside the image (the memories stay 0 outside). One gather of
-// the cells' pixels, then the 8 responses of the gathered row at once.
+// the cells' pixels per row of pixels (`gathered`: T x (c1 - c0 + 1) bytes), then per offset dx
+// the 8 responses of its gathered row at once.
 static void linearizeCells(const Mat& spread, int T, int cy, int c0, int c1, uchar* row,
                            size_t plane, uchar* gathered)
 {
+    const int n = c1 - c0 + 1;
+    // cells whose T pixels are all inside the image: [c0, whole)
+    const int whole = std::max(c0, std::min(c1 + 1, spread.cols / T));
     for (int dy = 0; dy < T && cy * T + dy < spread.rows; ++dy)
     {
         const uchar* src = spread.ptr<uchar>(cy * T + dy);
+        gatherCells(src, T, c0, whole, n, gathered);
         for (int dx = 0; dx < T; ++dx)
         {
-            const int n = std::min(c1, (spread.cols - 1 - dx) / T) - c0 + 1;
-            if (n <= 0)
+            // the cells from `whole` on hold the pixel dx only while it is inside the image
+            const int m = std::min(c1, (spread.cols - 1 - dx) / T) - c0 + 1;
+            if (m <= 0)
                 continue;
-            for (int k = 0; k < n; ++k)
-                gathered[k] = src[(c0 + k) * T + dx];
+            for (int k = whole - c0; k < m; ++k)
+                gathered[dx * n + k] = src[(c0 + k) * T + dx];
             uchar* d[8];
             for (int o = 0; o < 8; ++o)
                 d[o] = row + (size_t)linearMemory(0, o, dx, dy, T) * plane + c0;
-            spreadResponses(gathered, n, d);
+            spreadResponses(gathered + dx * n, m, d);
         }
     }
 }
@@ -48,7 +82,7 @@ static void fillCells(const LevelMaps& level, const std::vector<Vec2i>& runs,
     const size_t n = (size_t)lm.stride * lm.rows;
     for (int m = 0; m < level.modalities(); ++m)
         parallel_for_(Range(0, static_cast<int>(run_begin.size()) - 1), [&](const Range& range) {
-            std::vector<uchar> gathered(lm.stride);
+            std::vector<uchar> gathered((size_t)lm.stride * lm.T);
             for (int cy = range.start; cy < range.end; ++cy)
                 for (int k = run_begin[cy]; k < run_begin[cy + 1]; ++k)
                     linearizeCells(level.spread[m], lm.T, cy, runs[k][0], runs[k][1],

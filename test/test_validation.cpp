@@ -20,8 +20,8 @@ namespace opencv_test { namespace {
 
 using namespace cv::forestmod::detail;
 
-// The coarsest level (T = 8) of a random textured frame, gradient + hue.
-static LevelMaps randomLevel(RNG& rng, Size size)
+// A level (spread by T) of a random textured frame, gradient + hue.
+static LevelMaps randomLevel(RNG& rng, Size size, int T = 8)
 {
     Mat coarse(size.height / 12, size.width / 12, CV_8UC3), img;
     rng.fill(coarse, RNG::UNIFORM, Scalar::all(0), Scalar::all(255));
@@ -30,7 +30,7 @@ static LevelMaps randomLevel(RNG& rng, Size size)
     mods.push_back(linemod::Modality::create("ColorGradient"));
     mods.push_back(ColorHue::create());
     LevelMaps level;
-    level.T = 8;
+    level.T = T;
     level.pad = 0;
     level.quantized.resize(2);
     level.spread.resize(2);
@@ -154,6 +154,55 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
 
 // LinearMemories::build with a tile grid: the cells touching a marked tile as in the full build,
 // every other cell 0.
+TEST(Forestmod_Validation, linear_memories_hold_the_responses_for_every_T)
+{
+    // every byte of the memories on the T grid: the response of its pixel's spread labels, 0
+    // for pixels outside the image and in the slack (gathers specialised for T = 4, 5, 8)
+    RNG rng(7);
+    for (int T : { 3, 4, 5, 6, 8 })
+        for (const Size& size : { Size(160, 120), Size(203, 157) })
+        {
+            const LevelMaps level = randomLevel(rng, size, T);
+            LinearMemories lm;
+            lm.build(level);
+            ASSERT_EQ(size.width / T + 1, lm.stride);
+            ASSERT_EQ(size.height / T + 1, lm.rows);
+            for (int m = 0; m < 2; ++m)
+            {
+                std::vector<Mat> resp(8);
+                for (int o = 0; o < 8; ++o)
+                    resp[o].create(size, CV_8U);
+                for (int y = 0; y < size.height; ++y)
+                {
+                    uchar* d[8];
+                    for (int o = 0; o < 8; ++o)
+                        d[o] = resp[o].ptr<uchar>(y);
+                    spreadResponses(level.spread[m].ptr<uchar>(y), size.width, d);
+                }
+                int inside = 0;
+                for (int o = 0; o < 8; ++o)
+                    for (int dy = 0; dy < T; ++dy)
+                        for (int dx = 0; dx < T; ++dx)
+                            for (int cy = 0; cy < lm.rows; ++cy)
+                                for (int cx = 0; cx < lm.stride; ++cx)
+                                {
+                                    const int x = cx * T + dx, y = cy * T + dy;
+                                    const bool in = x < size.width && y < size.height;
+                                    inside += in;
+                                    ASSERT_EQ(in ? resp[o].at<uchar>(y, x) : 0,
+                                              lm.data[lm.index(m, o, dx, dy) + lm.cell(cx, cy)])
+                                        << "T " << T << " " << size << " modality " << m
+                                        << " label " << o << " pixel " << x << "," << y;
+                                }
+                EXPECT_EQ(8 * size.area(), inside);
+            }
+            const size_t n = (size_t)lm.stride * lm.rows * T * T * 8 * 2;
+            ASSERT_EQ(n + LinearMemories::kSlack, lm.data.size());
+            for (size_t i = n; i < lm.data.size(); ++i)
+                ASSERT_EQ(0, lm.data[i]) << "slack";
+        }
+}
+
 TEST(Forestmod_Validation, linear_memories_of_marked_tiles_equal_the_full_ones)
 {
     RNG rng(7);
