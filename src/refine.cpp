@@ -102,6 +102,109 @@ static void refineSpan(int lo, int hi, int border, int max_v, int T, int f_lo, i
     next_hi = ob + 15 * T + offset;
 }
 
+namespace {
+// A coarse match's template pyramid and record.
+struct MatchRefs
+{
+    const TemplatePyramid* tp;
+    const TemplateRecord* record;
+};
+
+static inline void prefetchLine(const void* p)
+{
+#if defined(__GNUC__)
+    __builtin_prefetch(p);
+#else
+    CV_UNUSED(p);
+#endif
+}
+
+// The templates and records of the coarse matches of `range`, looked up ahead of a loop that
+// reads them in order (at(k), k ascending) and asked of the cache: a model's templates and
+// records lie scattered over the heap, and a model of many templates misses the cache at every
+// match. A match's pyramid and the record's members read are asked for kAhead matches before it
+// is read, what they point to kAhead / 2 before: the pyramid's templates, and the feature extents
+// (regions) or with `features` the depth samples and the first lines of the refinement levels'
+// features (refinement; those kAhead / 4 before).
+class MatchesAhead
+{
+public:
+    MatchesAhead(const std::vector<cv::linemod::Match>& matches, const Range& range,
+                 const ClassPyramids& pyramids, const TemplateStore& store, int refined_templates,
+                 bool features)
+        : matches_(matches), end_(range.end), pyramids_(pyramids), store_(store),
+          refined_(refined_templates), features_(features), last_(0), templates_(0), records_(0)
+    {
+        for (int j = range.start; j < std::min(end_, range.start + kAhead); ++j)
+            look(j);
+        for (int j = range.start; j < std::min(end_, range.start + kAhead / 2); ++j)
+            pointed(j);
+        for (int j = range.start; j < std::min(end_, range.start + kAhead / 4); ++j)
+            featuresOf(j);
+    }
+    const MatchRefs& at(int k)
+    {
+        if (k + kAhead < end_)
+            look(k + kAhead);
+        if (k + kAhead / 2 < end_)
+            pointed(k + kAhead / 2);
+        if (k + kAhead / 4 < end_)
+            featuresOf(k + kAhead / 4);
+        return ring_[k % kRing];
+    }
+
+private:
+    enum { kAhead = 16, kRing = 2 * kAhead };
+    void look(int j)
+    {
+        const cv::linemod::Match& m = matches_[j];
+        if (!last_ || *last_ != m.class_id)
+        {
+            templates_ = &pyramids_.find(m.class_id)->second;
+            records_ = store_.classRecords(m.class_id);
+            CV_Assert(records_ && records_->size() == templates_->size());
+            last_ = &m.class_id;
+        }
+        CV_DbgAssert(m.template_id >= 0 && m.template_id < (int)templates_->size());
+        MatchRefs& r = ring_[j % kRing];
+        r.tp = &(*templates_)[m.template_id];
+        r.record = &(*records_)[m.template_id];
+        prefetchLine(r.tp);
+        prefetchLine(features_ ? (const void*)&r.record->depth : &r.record->feature_extent);
+    }
+    void pointed(int j)
+    {
+        const MatchRefs& r = ring_[j % kRing];
+        prefetchLine(r.tp->data());
+        prefetchLine(features_ ? (const void*)r.record->depth.data()
+                               : r.record->feature_extent.data());
+    }
+    void featuresOf(int j)
+    {
+        if (!features_)
+            return;
+        const TemplatePyramid& tp = *ring_[j % kRing].tp;
+        for (int i = 0; i < refined_ && i < (int)tp.size(); ++i)
+        {
+            const char* f = reinterpret_cast<const char*>(tp[i].features.data());
+            prefetchLine(f);
+            prefetchLine(f + 64);
+        }
+    }
+
+    const std::vector<cv::linemod::Match>& matches_;
+    const int end_;
+    const ClassPyramids& pyramids_;
+    const TemplateStore& store_;
+    const int refined_;
+    const bool features_;
+    const std::string* last_;
+    const std::vector<TemplatePyramid>* templates_;
+    const std::vector<TemplateRecord>* records_;
+    MatchRefs ring_[kRing];
+};
+} // namespace
+
 void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
                        const TemplateStore& store,
                        const std::vector<cv::linemod::Match>& matches,
@@ -110,24 +213,15 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
     const int L = scene.coarsestIndex();
     const int M = scene.coarsest().modalities();
     regions.assign(L, std::vector<Rect>(matches.size()));
-    // in parallel: reading the templates' records of ~1000 coarse matches misses the cache
     parallel_for_(Range(0, (int)matches.size()), [&](const Range& range) {
-        const std::string* last_class = 0;
-        const std::vector<TemplatePyramid>* class_templates = 0;
-        const std::vector<TemplateRecord>* class_records = 0;
+        MatchesAhead ahead(matches, range, pyramids, store, 0, false);
         for (int k = range.start; k < range.end; ++k)
         {
             const cv::linemod::Match& m = matches[k];
-            if (!last_class || *last_class != m.class_id)
-            {
-                class_templates = &pyramids.find(m.class_id)->second;
-                class_records = store.classRecords(m.class_id);
-                CV_Assert(class_records && class_records->size() == class_templates->size());
-                last_class = &m.class_id;
-            }
-            const TemplatePyramid& tp = (*class_templates)[m.template_id];
+            const MatchRefs& refs = ahead.at(k);
+            const TemplatePyramid& tp = *refs.tp;
             // the feature extents of each level: lo at [2 l], hi at [2 l + 1]
-            const std::vector<Point>& ext = (*class_records)[m.template_id].feature_extent;
+            const std::vector<Point>& ext = refs.record->feature_extent;
             CV_Assert((int)ext.size() >= 2 * L);
             int x_lo = m.x, x_hi = m.x, y_lo = m.y, y_hi = m.y;
             for (int l = L - 1; l >= 0; --l)
@@ -159,14 +253,15 @@ void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
         for (size_t l = 0; l + 1 < scene.levels.size(); ++l)
             linear[l].build(scene.levels[l], scene.tiles[l],
                             Size(ScenePyramid::TILE_W, ScenePyramid::TILE_H));
+    const int refined_templates = (int)(scene.levels.size() - 1) * scene.coarsest().modalities();
     parallel_for_(Range(0, (int)matches.size()), [&](const Range& range) {
+        MatchesAhead ahead(matches, range, pyramids, store, refined_templates, true);
         for (int k = range.start; k < range.end; ++k)
         {
             cv::linemod::Match& m = matches[k];
-            const TemplatePyramid& tp = pyramids.find(m.class_id)->second[m.template_id];
-            const DepthTemplate dt = use_depth ? depthTemplate(store.get(m.class_id,
-                                                                         m.template_id))
-                                               : DepthTemplate();
+            const MatchRefs& refs = ahead.at(k);
+            const TemplatePyramid& tp = *refs.tp;
+            const DepthTemplate dt = use_depth ? depthTemplate(*refs.record) : DepthTemplate();
             keep[k] = refineOne(scene.levels, tp, threshold,
                                 dt.samples ? &scene.depth_ctx[0] : 0, dt, m, &linear[0]);
         }
