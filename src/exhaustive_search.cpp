@@ -123,15 +123,10 @@ static bool rowsInDepthRange(const DepthCells* cells, const DepthSpan& z, Point 
 // template's features waited for memory (the 8 LM-O objects' model: 12.7 MB of them per frame).
 static inline void prefetchFeatures(const CoarseRuns& coarse, int row)
 {
-#if defined(__GNUC__)
     const char* p = reinterpret_cast<const char*>(coarse.features.data() + coarse.begin[row]);
     const char* e = reinterpret_cast<const char*>(coarse.features.data() + coarse.begin[row + 1]);
     for (; p < e; p += 64)
-        __builtin_prefetch(p);
-#else
-    CV_UNUSED(coarse);
-    CV_UNUSED(row);
-#endif
+        prefetchLine(p);
 }
 
 namespace {

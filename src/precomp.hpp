@@ -15,4 +15,22 @@
 #include <cmath>
 #include <vector>
 
+namespace cv {
+namespace forestmod {
+namespace detail {
+
+/** Asks the cache for the line holding p: a hint, it never faults wherever p points. */
+static inline void prefetchLine(const void* p)
+{
+#if defined(__GNUC__)
+    __builtin_prefetch(p);
+#else
+    CV_UNUSED(p);
+#endif
+}
+
+} // namespace detail
+} // namespace forestmod
+} // namespace cv
+
 #endif // OPENCV_FORESTMOD_PRECOMP_HPP

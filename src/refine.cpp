@@ -110,30 +110,29 @@ struct MatchRefs
     const TemplateRecord* record;
 };
 
-static inline void prefetchLine(const void* p)
+// The part of a template's record that a loop over the coarse matches reads.
+enum RecordPart
 {
-#if defined(__GNUC__)
-    __builtin_prefetch(p);
-#else
-    CV_UNUSED(p);
-#endif
-}
+    NO_RECORD,
+    FEATURE_EXTENT,
+    DEPTH_SAMPLES
+};
 
 // The templates and records of the coarse matches of `range`, looked up ahead of a loop that
 // reads them in order (at(k), k ascending) and asked of the cache: a model's templates and
 // records lie scattered over the heap, and a model of many templates misses the cache at every
-// match. A match's pyramid and the record's members read are asked for kAhead matches before it
-// is read, what they point to kAhead / 2 before: the pyramid's templates, and the feature extents
-// (regions) or with `features` the depth samples and the first lines of the refinement levels'
-// features (refinement; those kAhead / 4 before).
+// match. A match's pyramid and the record's `part` are asked for kAhead matches before it is
+// read, what they point to kAhead / 2 before (the pyramid's templates, the part's data), and the
+// first lines of the features of the first `refined_templates` templates (the refinement
+// levels') kAhead / 4 before.
 class MatchesAhead
 {
 public:
     MatchesAhead(const std::vector<cv::linemod::Match>& matches, const Range& range,
                  const ClassPyramids& pyramids, const TemplateStore& store, int refined_templates,
-                 bool features)
+                 RecordPart part)
         : matches_(matches), end_(range.end), pyramids_(pyramids), store_(store),
-          refined_(refined_templates), features_(features), last_(0), templates_(0), records_(0)
+          refined_(refined_templates), part_(part), last_(0), templates_(0), records_(0)
     {
         for (int j = range.start; j < std::min(end_, range.start + kAhead); ++j)
             look(j);
@@ -170,19 +169,22 @@ private:
         r.tp = &(*templates_)[m.template_id];
         r.record = &(*records_)[m.template_id];
         prefetchLine(r.tp);
-        prefetchLine(features_ ? (const void*)&r.record->depth : &r.record->feature_extent);
+        if (part_ == FEATURE_EXTENT)
+            prefetchLine(&r.record->feature_extent);
+        else if (part_ == DEPTH_SAMPLES)
+            prefetchLine(&r.record->depth);
     }
     void pointed(int j)
     {
         const MatchRefs& r = ring_[j % kRing];
         prefetchLine(r.tp->data());
-        prefetchLine(features_ ? (const void*)r.record->depth.data()
-                               : r.record->feature_extent.data());
+        if (part_ == FEATURE_EXTENT)
+            prefetchLine(r.record->feature_extent.data());
+        else if (part_ == DEPTH_SAMPLES)
+            prefetchLine(r.record->depth.data());
     }
     void featuresOf(int j)
     {
-        if (!features_)
-            return;
         const TemplatePyramid& tp = *ring_[j % kRing].tp;
         for (int i = 0; i < refined_ && i < (int)tp.size(); ++i)
         {
@@ -197,7 +199,7 @@ private:
     const ClassPyramids& pyramids_;
     const TemplateStore& store_;
     const int refined_;
-    const bool features_;
+    const RecordPart part_;
     const std::string* last_;
     const std::vector<TemplatePyramid>* templates_;
     const std::vector<TemplateRecord>* records_;
@@ -214,7 +216,7 @@ void refinementRegions(const ScenePyramid& scene, const ClassPyramids& pyramids,
     const int M = scene.coarsest().modalities();
     regions.assign(L, std::vector<Rect>(matches.size()));
     parallel_for_(Range(0, (int)matches.size()), [&](const Range& range) {
-        MatchesAhead ahead(matches, range, pyramids, store, 0, false);
+        MatchesAhead ahead(matches, range, pyramids, store, 0, FEATURE_EXTENT);
         for (int k = range.start; k < range.end; ++k)
         {
             const cv::linemod::Match& m = matches[k];
@@ -255,7 +257,8 @@ void refineMatches(const ScenePyramid& scene, const ClassPyramids& pyramids,
                             Size(ScenePyramid::TILE_W, ScenePyramid::TILE_H));
     const int refined_templates = (int)(scene.levels.size() - 1) * scene.coarsest().modalities();
     parallel_for_(Range(0, (int)matches.size()), [&](const Range& range) {
-        MatchesAhead ahead(matches, range, pyramids, store, refined_templates, true);
+        MatchesAhead ahead(matches, range, pyramids, store, refined_templates,
+                           use_depth ? DEPTH_SAMPLES : NO_RECORD);
         for (int k = range.start; k < range.end; ++k)
         {
             cv::linemod::Match& m = matches[k];
