@@ -45,39 +45,48 @@ static void gatherCells(const uchar* src, int T, int c0, int c1, int n, uchar* g
 
 // Cell columns [c0, c1] of cell row `cy` of one modality's memories (`row`: label 0, offset
 // (0, 0), that cell row; `plane` between consecutive offsets): the responses of the spread
-// pixels (cx T + dx, cy T + dy) inside the image (the memories stay 0 outside). One gather of
+// pixels (cx T + dx, cy T + dy) inside the image; with `zero_outside` the bytes of the pixels
+// outside it are written 0 too, else they are left as they are (zeroed before). One gather of
 // the cells' pixels per row of pixels (`gathered`: T x (c1 - c0 + 1) bytes), then per offset dx
 // the 8 responses of its gathered row at once.
 static void linearizeCells(const Mat& spread, int T, int cy, int c0, int c1, uchar* row,
-                           size_t plane, uchar* gathered)
+                           size_t plane, uchar* gathered, bool zero_outside)
 {
     const int n = c1 - c0 + 1;
     // cells whose T pixels are all inside the image: [c0, whole)
     const int whole = std::max(c0, std::min(c1 + 1, spread.cols / T));
-    for (int dy = 0; dy < T && cy * T + dy < spread.rows; ++dy)
+    for (int dy = 0; dy < T; ++dy)
     {
-        const uchar* src = spread.ptr<uchar>(cy * T + dy);
-        gatherCells(src, T, c0, whole, n, gathered);
+        const bool inside = cy * T + dy < spread.rows;
+        if (!inside && !zero_outside)
+            break;
+        const uchar* src = inside ? spread.ptr<uchar>(cy * T + dy) : 0;
+        if (inside)
+            gatherCells(src, T, c0, whole, n, gathered);
         for (int dx = 0; dx < T; ++dx)
         {
             // the cells from `whole` on hold the pixel dx only while it is inside the image
-            const int m = std::min(c1, (spread.cols - 1 - dx) / T) - c0 + 1;
+            const int m = inside ? std::min(c1, (spread.cols - 1 - dx) / T) - c0 + 1 : 0;
+            uchar* d[8];
+            for (int o = 0; o < 8; ++o)
+                d[o] = row + (size_t)linearMemory(0, o, dx, dy, T) * plane + c0;
+            if (zero_outside && m < n)
+                for (int o = 0; o < 8; ++o)
+                    std::fill(d[o] + std::max(m, 0), d[o] + n, (uchar)0);
             if (m <= 0)
                 continue;
             for (int k = whole - c0; k < m; ++k)
                 gathered[dx * n + k] = src[(c0 + k) * T + dx];
-            uchar* d[8];
-            for (int o = 0; o < 8; ++o)
-                d[o] = row + (size_t)linearMemory(0, o, dx, dy, T) * plane + c0;
             spreadResponses(gathered + dx * n, m, d);
         }
     }
 }
 
 // The image's cell rows of every modality's memories: cell row cy (0 = the image's first) from
-// runs[run_begin[cy]] .. runs[run_begin[cy + 1]) (cell columns, inclusive), in parallel.
+// runs[run_begin[cy]] .. runs[run_begin[cy + 1]) (cell columns, inclusive), in parallel; the
+// bytes of pixels outside the image written 0 with `zero_outside` (linearizeCells).
 static void fillCells(const LevelMaps& level, const std::vector<Vec2i>& runs,
-                      const std::vector<int>& run_begin, LinearMemories& lm)
+                      const std::vector<int>& run_begin, LinearMemories& lm, bool zero_outside)
 {
     const size_t n = (size_t)lm.stride * lm.rows;
     for (int m = 0; m < level.modalities(); ++m)
@@ -87,7 +96,7 @@ static void fillCells(const LevelMaps& level, const std::vector<Vec2i>& runs,
                 for (int k = run_begin[cy]; k < run_begin[cy + 1]; ++k)
                     linearizeCells(level.spread[m], lm.T, cy, runs[k][0], runs[k][1],
                                    &lm.data[lm.index(m, 0, 0, 0)] + lm.cell(0, cy), n,
-                                   &gathered[0]);
+                                   &gathered[0], zero_outside);
         });
 }
 
@@ -104,7 +113,6 @@ void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
     div_T.resize((size_t)std::max(stride, rows) * T);
     for (size_t x = 0; x < div_T.size(); ++x)
         div_T[x] = static_cast<ushort>(x / T);
-    data.assign(n * T * T * 8 * M + kSlack, 0);
     // the runs of cells to fill, per cell row: every cell, or those touching a marked tile
     std::vector<Vec2i> runs;
     std::vector<int> run_begin(rows + 1, 0);
@@ -143,7 +151,25 @@ void LinearMemories::build(const LevelMaps& level, const Mat& tiles, Size tile)
         }
     }
     run_begin[rows] = static_cast<int>(runs.size());
-    fillCells(level, runs, run_begin, *this);
+    // every cell with a pixel in the image (a whole level, the usual case): every row's run
+    // widened to the row and the bytes outside the image written 0 by the fill, so that it
+    // writes every byte (at VGA's level 0, 5 MB that one serial memset had zeroed first); else
+    // the cells left out are zeroed first
+    const int last_x = (level.size.width - 1) / T, last_y = (level.size.height - 1) / T;
+    bool every_cell = true;
+    for (int cy = 0; cy <= last_y && every_cell; ++cy)
+        every_cell = run_begin[cy + 1] == run_begin[cy] + 1 && runs[run_begin[cy]][0] == 0
+                     && runs[run_begin[cy]][1] >= last_x;
+    if (every_cell)
+    {
+        runs.assign(rows, Vec2i(0, stride - 1));
+        for (int cy = 0; cy <= rows; ++cy)
+            run_begin[cy] = cy;
+    }
+    const size_t bytes = n * T * T * 8 * M;
+    data.resize(bytes + kSlack);
+    std::fill(data.begin() + (every_cell ? bytes : 0), data.end(), (uchar)0);
+    fillCells(level, runs, run_begin, *this, every_cell);
 }
 
 void LinearMemories::buildGrid(const LevelMaps& level, int step, int border_cells)
@@ -162,7 +188,7 @@ void LinearMemories::buildGrid(const LevelMaps& level, int step, int border_cell
     std::vector<int> run_begin(cells_y + 1);
     for (int cy = 0; cy <= cells_y; ++cy)
         run_begin[cy] = cy;
-    fillCells(level, runs, run_begin, *this);
+    fillCells(level, runs, run_begin, *this, false);
 }
 
 void LinearMemories::featureOffsets(const TemplatePyramid& tp, int level_index, int M, Point tl,

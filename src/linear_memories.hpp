@@ -12,11 +12,38 @@
 #include "similarity.hpp"
 #include "search_index.hpp"
 
+#include <memory>
+#include <utility>
 #include <vector>
 
 namespace cv {
 namespace forestmod {
 namespace detail {
+
+/** An allocator whose resize() leaves new bytes as they are (default-initialised): buffers that
+their builder writes whole need no zeroing first. */
+template <typename T>
+struct UninitAllocator : std::allocator<T>
+{
+    template <typename U>
+    struct rebind
+    {
+        typedef UninitAllocator<U> other;
+    };
+    UninitAllocator() {}
+    template <typename U>
+    UninitAllocator(const UninitAllocator<U>&) {}
+    template <typename U>
+    void construct(U* p)
+    {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <typename U, typename... Args>
+    void construct(U* p, Args&&... args)
+    {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
 
 /** 16-bit sums: at most this many features (4 each). */
 const int kMaxSum16 = 65535 / 4;
@@ -37,7 +64,9 @@ the forest path on its location grid (T = location step) with `border` cells of 
 side, so that any feature of a candidate at any location is one read without bounds checks. */
 struct CV_EXPORTS LinearMemories
 {
-    std::vector<uchar> data;   //!< the memories, then kSlack zero bytes (whole-vector reads)
+    /** The memories, then kSlack zero bytes (whole-vector reads). Not zeroed when resized:
+    build() writes every byte (the zeros outside the image too) or zeroes them first. */
+    std::vector<uchar, UninitAllocator<uchar> > data;
     int T;
     int cells_x, cells_y;   //!< build: the level's whole cells (the positions); buildGrid: every
                             //!< cell touching the padded spread images

@@ -164,6 +164,10 @@ TEST(Forestmod_Validation, linear_memories_hold_the_responses_for_every_T)
         {
             const LevelMaps level = randomLevel(rng, size, T);
             LinearMemories lm;
+            // bytes left from an earlier frame: the build writes every one of them
+            lm.data.assign((size_t)(size.width / T + 1) * (size.height / T + 1) * T * T * 8 * 2
+                               + LinearMemories::kSlack,
+                           (uchar)0xA5);
             lm.build(level);
             ASSERT_EQ(size.width / T + 1, lm.stride);
             ASSERT_EQ(size.height / T + 1, lm.rows);
@@ -216,11 +220,17 @@ TEST(Forestmod_Validation, linear_memories_of_marked_tiles_equal_the_full_ones)
         for (int k = 0; k < tiles.rows * tiles.cols / 3; ++k)
             tiles.at<uchar>(rng.uniform(0, tiles.rows), rng.uniform(0, tiles.cols)) = 1;
         tiles.at<uchar>(tiles.rows - 1, tiles.cols - 1) = 1; // the partial tiles at the far edges
-        LinearMemories full, part;
+        LinearMemories full, part, every;
         full.build(level);
+        // over the bytes of an earlier frame: the cells left out are 0 all the same; with every
+        // tile marked, the full build's bytes
+        part.data.assign(full.data.size(), (uchar)0xA5);
         part.build(level, tiles, tile);
         ASSERT_EQ(full.data.size(), part.data.size());
         ASSERT_EQ(full.stride, part.stride);
+        every.data.assign(full.data.size(), (uchar)0xA5);
+        every.build(level, Mat::ones(tiles.size(), CV_8U), tile);
+        ASSERT_TRUE(full.data == every.data) << size;
         int inside = 0, outside = 0;
         for (int m = 0; m < 2; ++m)
             for (int o = 0; o < 8; ++o)
