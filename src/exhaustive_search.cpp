@@ -118,13 +118,13 @@ static bool rowsInDepthRange(const DepthCells* cells, const DepthSpan& z, Point 
     return r0 <= r1;
 }
 
-// Asks the cache for the kept features of the template of index row `row`: the rows of a search
-// group lie apart in the index (every class's templates, by size), and the first reads of each
-// template's features waited for memory (the 8 LM-O objects' model: 12.7 MB of them per frame).
-static inline void prefetchFeatures(const CoarseRuns& coarse, int row)
+// Asks the cache for the runs of the template of index row `row`: the rows of a search group lie
+// apart in the index (every class's templates, by size), and the first reads of each template's
+// runs waited for memory (the 8 LM-O objects' model: 6.4 MB of them per frame).
+static inline void prefetchRuns(const CoarseRuns& coarse, const int* offsets, int row)
 {
-    const char* p = reinterpret_cast<const char*>(coarse.features.data() + coarse.begin[row]);
-    const char* e = reinterpret_cast<const char*>(coarse.features.data() + coarse.begin[row + 1]);
+    const char* p = reinterpret_cast<const char*>(offsets + coarse.begin[row]);
+    const char* e = reinterpret_cast<const char*>(offsets + coarse.begin[row + 1]);
     for (; p < e; p += 64)
         prefetchLine(p);
 }
@@ -134,7 +134,7 @@ namespace {
 struct SearchBuffers
 {
     std::vector<ushort> scores, need;
-    std::vector<int> runs, vectors, hits;
+    std::vector<int> vectors, hits;
 };
 } // namespace
 
@@ -169,16 +169,17 @@ static int passingBySimilarity(const LevelMaps& top, int L, const LinearMemories
 // scene depth reaches into their widened depth span): each position's best K in `best` (lists of
 // the T grid's cells, row-major), its entry bar in `bar` (the scores' layout r * stride + c).
 static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& lm,
-                            const SearchIndex& index, const ClassPyramids& pyramids,
-                            const std::vector<int>& rows, int i0, int i1, float threshold, int K,
-                            const DepthCells* cells, float tolerance, Scored* best, ushort* bar)
+                            const SearchIndex& index, const int* offsets,
+                            const ClassPyramids& pyramids, const std::vector<int>& rows, int i0,
+                            int i1, float threshold, int K, const DepthCells* cells,
+                            float tolerance, Scored* best, ushort* bar)
 {
     const CoarseRuns& coarse = index.coarse;
     SearchBuffers buf;
     for (int i = i0; i < i1; ++i)
     {
         if (i + 1 < i1)
-            prefetchFeatures(coarse, rows[i + 1]);
+            prefetchRuns(coarse, offsets, rows[i + 1]);
         Scored sc;
         sc.row = rows[i];
         sc.total = coarse.total[sc.row];
@@ -198,23 +199,24 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
         else
         {
             const Size box = coarse.cells[sc.row];
-            if (!rowsInDepthRange(cells, z, centre, lm.cells_y - box.height, r0, r1))
+            span_x = lm.cells_x - box.width;
+            span_y = lm.cells_y - box.height;
+            if (span_x < 0 || span_y < 0
+                || !rowsInDepthRange(cells, z, centre, span_y, r0, r1))
                 continue;
             const int b = coarse.begin[sc.row], e = coarse.begin[sc.row + 1];
-            if (!runsOf(lm, b < e ? &coarse.features[b] : 0, e - b, box, span_x, span_y,
-                        buf.runs, r0, r1))
-                continue;
             // the positions (r - r0) * stride + c, the row ends (c > span_x) included: they
-            // wrap, are scored and never reported
+            // wrap, are scored and never reported; the runs of row r0 start r0 rows further
             const int n_pos = (r1 - r0) * lm.stride + span_x + 1;
             buf.scores.resize(n_pos + LinearMemories::kSlack);
             buf.need.resize(n_pos + LinearMemories::kSlack);
             buf.vectors.resize(n_pos / 16 + 1);
             buf.hits.resize(n_pos);
-            n_hits = sumRunsPassing16(&buf.scores[0], &lm.data[0], b < e ? &buf.runs[0] : 0,
-                                      e - b, n_pos, bar + (size_t)r0 * lm.stride,
-                                      (ushort)raw_thr, (ushort)(4 * sc.total), &buf.need[0],
-                                      &buf.vectors[0], &buf.hits[0]); // 4 total <= 65532
+            n_hits = sumRunsPassing16(&buf.scores[0], &lm.data[0] + (size_t)r0 * lm.stride,
+                                      b < e ? offsets + b : 0, e - b, n_pos,
+                                      bar + (size_t)r0 * lm.stride, (ushort)raw_thr,
+                                      (ushort)(4 * sc.total), &buf.need[0], &buf.vectors[0],
+                                      &buf.hits[0]); // 4 total <= 65532
         }
         ushort* bar_r0 = bar + (size_t)r0 * lm.stride;
         // the hits ascend: their row follows them without a division
@@ -307,6 +309,10 @@ void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
     const DepthCells* cells = scene.depth_cells.empty() ? 0 : &scene.depth_cells;
     LinearMemories lm;
     lm.build(top);
+    // the templates' runs in memories of this frame's size (kept by the index from frame to frame)
+    const std::shared_ptr<const CoarseRuns::Offsets> runs = index.coarse.offsetsFor(lm.stride,
+                                                                                    lm.rows);
+    const int* offsets = runs->offsets.empty() ? 0 : &runs->offsets[0];
     const int P = lm.cells_x * lm.cells_y;
     const int n = static_cast<int>(rows.size());
     // templates in blocks taken by the threads as they free up, each thread's templates into
@@ -318,9 +324,9 @@ void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
     parallel_for_(Range(0, blocks), [&](const Range& range) {
         WorkerLists::Slot& slot = lists.take();
         for (int b = range.start; b < range.end; ++b)
-            searchTemplates(top, L, lm, index, pyramids, rows, (int)((int64)n * b / blocks),
-                            (int)((int64)n * (b + 1) / blocks), threshold, K, cells,
-                            depth_tolerance, &slot.best[0], &slot.bar[0]);
+            searchTemplates(top, L, lm, index, offsets, pyramids, rows,
+                            (int)((int64)n * b / blocks), (int)((int64)n * (b + 1) / blocks),
+                            threshold, K, cells, depth_tolerance, &slot.best[0], &slot.bar[0]);
         lists.give(slot);
     }, blocks);
     std::vector<Scored>& best = lists.merged(K);

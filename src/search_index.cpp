@@ -335,10 +335,34 @@ Size coarseFeatures(const TemplatePyramid& tp, int level_index, int num_modaliti
     return Size((t0.width - 1) / T + 1, (t0.height - 1) / T + 1);
 }
 
+std::shared_ptr<const CoarseRuns::Offsets> CoarseRuns::offsetsFor(int stride, int rows) const
+{
+    AutoLock lock(offsets_mutex_);
+    if (!offsets_ || offsets_->stride != stride || offsets_->rows != rows)
+    {
+        std::shared_ptr<Offsets> o = std::make_shared<Offsets>();
+        o->stride = stride;
+        o->rows = rows;
+        o->offsets.resize(features.size());
+        const int plane = stride * rows;
+        for (size_t k = 0; k < features.size(); ++k)
+            o->offsets[k] = features[k].memory * plane + features[k].cy * stride + features[k].cx;
+        offsets_ = o;
+    }
+    return offsets_;
+}
+
+void CoarseRuns::clearOffsets()
+{
+    AutoLock lock(offsets_mutex_);
+    offsets_.reset();
+}
+
 static void buildCoarseRuns(SearchIndex& index, const ClassPyramids& pyramids, int M, int L,
                             int T)
 {
     CoarseRuns& c = index.coarse;
+    c.clearOffsets();
     c.features.clear();
     c.begin.assign(1, 0);
     c.cells.clear();
@@ -446,7 +470,12 @@ void SearchIndex::clear()
     groups.clear();
     depth.clear();
     max_extent = 0;
-    coarse = CoarseRuns();
+    coarse.features.clear();
+    coarse.begin.clear();
+    coarse.cells.clear();
+    coarse.centre.clear();
+    coarse.total.clear();
+    coarse.clearOffsets();
     trained = false;
 }
 

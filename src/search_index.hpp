@@ -14,6 +14,8 @@
 #include "depth_range.hpp"
 #include "opencv2/forestmod/forest.hpp"
 
+#include <memory>
+
 namespace cv {
 namespace forestmod {
 namespace detail {
@@ -54,6 +56,24 @@ struct CoarseRuns
     std::vector<Size> cells;
     std::vector<Point> centre; //!< the cell of its centre, from its position's cell
     std::vector<int> total;
+
+    /** The features as runs of memories of `stride` x `rows` cells: offsets[k] = features[k]'s
+    memory x stride x rows + cy x stride + cx (the runs of a template's first row of positions,
+    indexed as `features`). */
+    struct Offsets
+    {
+        int stride, rows;
+        std::vector<int> offsets;
+    };
+    /** The offsets for a frame's memories: made at the first frame of a size and kept for the
+    next frames of that size (a frame of another size replaces them; a caller keeps its own). */
+    std::shared_ptr<const Offsets> offsetsFor(int stride, int rows) const;
+    /** Drops the kept offsets (the features changed). */
+    void clearOffsets();
+
+private:
+    mutable std::shared_ptr<const Offsets> offsets_;
+    mutable Mutex offsets_mutex_;
 };
 
 /** Appends the features of `tp` at level `level_index` (modality by modality, in the template's

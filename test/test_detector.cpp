@@ -369,6 +369,49 @@ TEST(Forestmod_Detector, exhaustive_groups_keep_the_best_of_the_exhaustive_searc
     }
 }
 
+// The exhaustive search reads each template's runs of the memories from offsets the index keeps
+// for the frame size it last saw: a frame of another size, and templates added since, get their
+// own (the same matches as a detector that never saw another frame or other templates).
+TEST(Forestmod_Detector, exhaustive_runs_follow_the_frame_size_and_the_templates)
+{
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
+    DetectorParams p;
+    p.nms_iou = 0.f;
+    p.exhaustive_ratio = 0.f;
+    RNG rng(5);
+    Mat large = clutter(Size(640, 480), rng);
+    drawObject(large, 0, Point2f(300, 220), -20.f, 1.0f);
+    drawObject(large, 0, Point2f(450, 330), 15.f, 0.85f);
+    const Mat small = large(Rect(40, 24, 560, 408)).clone(); // other strides and rows of cells
+    const std::vector<Mat> L(mods.size(), large), S(mods.size(), small);
+    cv::forestmod::Detector seen(mods, Tpyr(), p);
+    addObjectTemplates(seen, 10, "L", 0);
+    std::vector<linemod::Match> large1, small1, large2;
+    seen.match(L, 60.f, large1);
+    seen.match(S, 60.f, small1);
+    seen.match(L, 60.f, large2);
+    ASSERT_FALSE(large1.empty());
+    ASSERT_FALSE(small1.empty());
+    expectSameMatches(large1, large2, "the large frame again");
+    {
+        cv::forestmod::Detector fresh(mods, Tpyr(), p);
+        addObjectTemplates(fresh, 10, "L", 0);
+        std::vector<linemod::Match> ref;
+        fresh.match(S, 60.f, ref);
+        expectSameMatches(ref, small1, "the small frame after the large one");
+    }
+    // more templates (the model is trained again at the next match), the frame size unchanged
+    addObjectTemplates(seen, 7, "M", 0);
+    cv::forestmod::Detector fresh(mods, Tpyr(), p);
+    addObjectTemplates(fresh, 10, "L", 0);
+    addObjectTemplates(fresh, 7, "M", 0);
+    std::vector<linemod::Match> got, ref;
+    seen.match(L, 60.f, got);
+    fresh.match(L, 60.f, ref);
+    ASSERT_GT(ref.size(), large1.size());
+    expectSameMatches(ref, got, "after templates were added");
+}
+
 // The scan decides per frame and search group between the forest path and the exhaustive search
 // from the (location, candidate) pairs of a sample of its locations; a group whose limit is many
 // pairs descends only every k-th location of the sample and extrapolates. A ratio 4x below the
