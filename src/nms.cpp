@@ -52,12 +52,21 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
         ch *= 2;
     }
     const int gx = (x1 - x0) / cw + 1, gy = (y1 - y0) / ch + 1;
-    std::vector<std::vector<int> > grid((size_t)gx * gy);
+    // a kept box in its cell: its index, doubled centre and the centres' bounds for its width and
+    // height, floor(reach x side + 1) (the bound for two boxes is the larger of their two)
+    struct Kept
+    {
+        int index, cx, cy, bound_x, bound_y;
+    };
+    std::vector<std::vector<Kept> > grid((size_t)gx * gy);
     const double reach = 2.0 * (1.0 - iou);
     for (int i = 0; i < n; ++i)
     {
         const Rect& a = boxes[i];
-        const int cx = (2 * a.x + a.width - x0) / cw, cy = (2 * a.y + a.height - y0) / ch;
+        const Kept me = { i, 2 * a.x + a.width, 2 * a.y + a.height,
+                          (int)std::floor(reach * a.width + 1),
+                          (int)std::floor(reach * a.height + 1) };
+        const int cx = (me.cx - x0) / cw, cy = (me.cy - y0) / ch;
         // its own cell first (a leader found there cuts the others short), then the 8 around
         int cells[9], n_cells = 0;
         cells[n_cells++] = cy * gx + cx;
@@ -67,31 +76,40 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
                     cells[n_cells++] = y * gx + x;
         for (int c = 0; c < n_cells; ++c)
         {
-            const std::vector<int>& kept = grid[(size_t)cells[c]];
-            for (size_t k = 0; k < kept.size(); ++k)
+            const std::vector<Kept>& kept = grid[(size_t)cells[c]];
+            const int end = static_cast<int>(kept.size());
+            // the centres' bound of 8 kept boxes at a time, without branches (most kept boxes
+            // nearby fail it), then the overlaps of those that pass, in order
+            bool found = false;
+            for (int k0 = 0; k0 < end && !found && (leader[i] < 0 || kept[k0].index < leader[i]);
+                 k0 += 8)
             {
-                const int j = kept[k];
-                if (leader[i] >= 0 && j > leader[i])
-                    break;
-                const Rect& b = boxes[j];
-                // the centres' bound for these two widths and heights (with a margin of a doubled
-                // pixel for rounding): most kept boxes nearby fail it
-                if (std::abs(2 * (a.x - b.x) + a.width - b.width)
-                        > reach * std::max(a.width, b.width) + 1
-                    || std::abs(2 * (a.y - b.y) + a.height - b.height)
-                        > reach * std::max(a.height, b.height) + 1)
-                    continue;
-                const double inter = (a & b).area();
-                const double uni = a.area() + b.area() - inter;
-                if (uni > 0 && inter / uni > iou)
+                int near[8], m = 0;
+                for (int k = k0; k < std::min(end, k0 + 8); ++k)
                 {
-                    leader[i] = j;
-                    break;
+                    const Kept& b = kept[k];
+                    near[m] = b.index;
+                    m += (std::abs(me.cx - b.cx) <= std::max(me.bound_x, b.bound_x))
+                         & (std::abs(me.cy - b.cy) <= std::max(me.bound_y, b.bound_y));
+                }
+                for (int k = 0; k < m && !found; ++k)
+                {
+                    const int j = near[k];
+                    if (leader[i] >= 0 && j > leader[i])
+                        break;
+                    const Rect& b = boxes[j];
+                    const double inter = (a & b).area();
+                    const double uni = a.area() + b.area() - inter;
+                    if (uni > 0 && inter / uni > iou)
+                    {
+                        leader[i] = j;
+                        found = true;
+                    }
                 }
             }
         }
         if (leader[i] < 0)
-            grid[(size_t)cy * gx + cx].push_back(i);
+            grid[(size_t)cy * gx + cx].push_back(me);
     }
 }
 
