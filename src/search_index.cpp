@@ -8,6 +8,8 @@
 #include "precomp.hpp"
 #include "search_index.hpp"
 
+#include <climits>
+
 namespace cv {
 namespace forestmod {
 namespace detail {
@@ -344,9 +346,14 @@ std::shared_ptr<const CoarseRuns::Offsets> CoarseRuns::offsetsFor(int stride, in
         o->stride = stride;
         o->rows = rows;
         o->offsets.resize(features.size());
-        const int plane = stride * rows;
+        const int64 plane = (int64)stride * rows;
         for (size_t k = 0; k < features.size(); ++k)
-            o->offsets[k] = features[k].memory * plane + features[k].cy * stride + features[k].cx;
+        {
+            const int64 off = features[k].memory * plane + features[k].cy * stride
+                              + features[k].cx;
+            CV_Assert(off <= INT_MAX); // the memories' offsets are ints, as LINEMOD's
+            o->offsets[k] = static_cast<int>(off);
+        }
         offsets_ = o;
     }
     return offsets_;
