@@ -371,7 +371,8 @@ TEST(Forestmod_Detector, exhaustive_groups_keep_the_best_of_the_exhaustive_searc
 
 // The exhaustive search reads each template's runs of the memories from offsets the index keeps
 // for the frame size it last saw: a frame of another size, and templates added since, get their
-// own (the same matches as a detector that never saw another frame or other templates).
+// own (the same matches as a detector that never saw another frame or other templates), also when
+// threads match frames of both sizes at once.
 TEST(Forestmod_Detector, exhaustive_runs_follow_the_frame_size_and_the_templates)
 {
     const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
@@ -405,11 +406,24 @@ TEST(Forestmod_Detector, exhaustive_runs_follow_the_frame_size_and_the_templates
     cv::forestmod::Detector fresh(mods, Tpyr(), p);
     addObjectTemplates(fresh, 10, "L", 0);
     addObjectTemplates(fresh, 7, "M", 0);
-    std::vector<linemod::Match> got, ref;
+    std::vector<linemod::Match> got, ref, ref_small;
     seen.match(L, 60.f, got);
     fresh.match(L, 60.f, ref);
     ASSERT_GT(ref.size(), large1.size());
     expectSameMatches(ref, got, "after templates were added");
+    // several threads at once, frames of both sizes: each search reads the offsets it took
+    fresh.match(S, 60.f, ref_small);
+    std::vector<std::vector<linemod::Match> > at_once(4);
+    std::vector<std::thread> threads;
+    for (int k = 0; k < 4; ++k)
+        threads.push_back(std::thread([&, k]() {
+            for (int rep = 0; rep < 3; ++rep)
+                seen.match(k % 2 ? S : L, 60.f, at_once[k]);
+        }));
+    for (size_t k = 0; k < threads.size(); ++k)
+        threads[k].join();
+    for (int k = 0; k < 4; ++k)
+        expectSameMatches(k % 2 ? ref_small : ref, at_once[k], cv::format("thread %d", k));
 }
 
 // The scan decides per frame and search group between the forest path and the exhaustive search
