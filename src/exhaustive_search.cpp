@@ -17,41 +17,22 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-// The runs of the memories that a template's coarsest-level features `f` (CoarseRuns) read for
-// the positions of the T grid where its box of `cells` fits, in the rows r0 .. r1 of positions
-// (all of them when r1 < 0): position (r, c) is run + (r - r0) * stride + c. False when the box
-// does not fit.
-static bool runsOf(const LinearMemories& lm, const CoarseFeature* f, int n_f, Size cells,
-                   int& span_x, int& span_y, std::vector<int>& runs, int& r0, int& r1)
-{
-    span_x = lm.cells_x - cells.width;
-    span_y = lm.cells_y - cells.height;
-    if (span_x < 0 || span_y < 0)
-        return false;
-    if (r1 < 0)
-        r1 = span_y;
-    CV_DbgAssert(0 <= r0 && r0 <= r1 && r1 <= span_y);
-    // (cx <= cells.width <= cells_x: no overflow)
-    runs.resize(n_f);
-    const int plane = lm.stride * lm.rows;
-    for (int k = 0; k < n_f; ++k)
-        runs[k] = f[k].memory * plane + (f[k].cy + r0) * lm.stride + f[k].cx;
-    return true;
-}
-
 bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
                      int num_modalities, int& span_x, int& span_y, std::vector<ushort>& scores)
 {
     std::vector<CoarseFeature> f;
     const Size cells = coarseFeatures(tp, level_index, num_modalities, lm.T, f);
-    std::vector<int> runs;
-    int r0 = 0, r1 = -1;
-    if (!runsOf(lm, f.empty() ? 0 : &f[0], static_cast<int>(f.size()), cells, span_x, span_y,
-                runs, r0, r1))
+    span_x = lm.cells_x - cells.width;
+    span_y = lm.cells_y - cells.height;
+    if (span_x < 0 || span_y < 0)
         return false;
+    // (cx <= cells.width <= cells_x: the offsets lie within the memories)
+    std::vector<int> runs(f.size());
+    for (size_t k = 0; k < f.size(); ++k)
+        runs[k] = static_cast<int>(runOffset(f[k], lm.stride, lm.rows));
     // positions r * stride + c, the row ends included (they wrap); the kernel writes whole
     // vectors
-    const int n = r1 * lm.stride + span_x + 1;
+    const int n = span_y * lm.stride + span_x + 1;
     scores.resize(n + LinearMemories::kSlack);
     sumRuns16(&scores[0], &lm.data[0], runs.empty() ? 0 : &runs[0], (int)runs.size(), n);
     scores.resize(n);

@@ -346,11 +346,9 @@ std::shared_ptr<const CoarseRuns::Offsets> CoarseRuns::offsetsFor(int stride, in
         o->stride = stride;
         o->rows = rows;
         o->offsets.resize(features.size());
-        const int64 plane = (int64)stride * rows;
         for (size_t k = 0; k < features.size(); ++k)
         {
-            const int64 off = features[k].memory * plane + features[k].cy * stride
-                              + features[k].cx;
+            const int64 off = runOffset(features[k], stride, rows);
             CV_Assert(off <= INT_MAX); // the memories' offsets are ints, as LINEMOD's
             o->offsets[k] = static_cast<int>(off);
         }

@@ -38,6 +38,13 @@ struct CoarseFeature
     short cx, cy;
 };
 
+/** The start of a feature's run in linearized memories of `stride` x `rows` cells: its
+responses at the positions of the T grid from a template's top-left cell (0, 0). */
+static inline int64 runOffset(const CoarseFeature& f, int stride, int rows)
+{
+    return (int64)f.memory * stride * rows + (int64)f.cy * stride + f.cx;
+}
+
 /** The number of the linearized memory of a modality, label and phase (dx, dy) in a T x T cell:
 memories are stored in this order (LinearMemories::index). */
 static inline int linearMemory(int modality, int label, int dx, int dy, int T)
