@@ -55,33 +55,6 @@ static inline int predictedDepth(const DepthTemplate& t, const Vec3f& row, const
     return cvRound(std::max(-1e7f, std::min(1e7f, d)));
 }
 
-// Median offset (scene minus predicted template depth, mm) of the first n <= 256 samples at
-// `origin` (level 0); false (every sample then scores 0) when fewer than a quarter of them have
-// scene depth.
-static bool depthOffset(const DepthContext& dc, const DepthTemplate& t, const Vec3f& row, int n,
-                        Point origin, int& offset)
-{
-    const Mat& d = dc.depth;
-    const Point3i* samples = &(*t.samples)[0];
-    int diff[256];
-    int k = 0;
-    n = std::min(n, 256);
-    for (int i = 0; i < n; ++i)
-    {
-        const int x = origin.x + samples[i].x, y = origin.y + samples[i].y;
-        if ((unsigned)x >= (unsigned)d.cols || (unsigned)y >= (unsigned)d.rows)
-            continue;
-        const int z = d.ptr<ushort>(y)[x];
-        if (z > 0)
-            diff[k++] = z - predictedDepth(t, row, samples[i]);
-    }
-    if (k == 0 || 4 * k < n)
-        return false;
-    std::nth_element(diff, diff + k / 2, diff + k);
-    offset = diff[k / 2];
-    return true;
-}
-
 // 0..4 by the residual r (mm): 4 when r <= tol, 2 when r <= 2 tol, 1 when r <= 3 tol, else 0.
 static inline int depthResponse(int r, int tol)
 {
@@ -89,39 +62,50 @@ static inline int depthResponse(int r, int tol)
     return r <= tol ? 4 : r <= 2 * tol ? 2 : r <= 3 * tol ? 1 : 0;
 }
 
-// Sum of depthResponse() over the samples [begin, end) at `origin` with the given offset.
-static int depthSimilarityRange(const DepthContext& dc, const DepthTemplate& t,
-                                const Vec3f& row, Point origin, int offset, int begin, int end)
-{
-    const Mat& d = dc.depth;
-    const Point3i* samples = &(*t.samples)[0];
-    int sum = 0;
-    for (int i = begin; i < end; ++i)
-    {
-        const int x = origin.x + samples[i].x, y = origin.y + samples[i].y;
-        if ((unsigned)x >= (unsigned)d.cols || (unsigned)y >= (unsigned)d.rows)
-            continue;
-        if (d.ptr<ushort>(y)[x] == 0)
-            continue; // no depth at the sample itself: like a feature without a value
-        const int z = predictedDepth(t, row, samples[i]) + offset;
-        const int lo = dc.zmin.ptr<ushort>(y)[x], hi = dc.zmax.ptr<ushort>(y)[x];
-        sum += depthResponse(z < lo ? lo - z : z > hi ? z - hi : 0, dc.tolerance);
-    }
-    return sum;
-}
-
 int depthSimilarity(const DepthContext& dc, const DepthTemplate& t, Point origin, int count)
 {
     int n = t.samples ? std::min(256, static_cast<int>(t.samples->size())) : 0;
     if (count >= 0)
         n = std::min(n, count);
-    int offset = 0;
     if (n == 0)
         return 0;
     const Vec3f row = depthRotationRow(dc, t, origin);
-    if (!depthOffset(dc, t, row, n, origin, offset))
+    // one pass over the samples: those with scene depth (a sample without, or outside the
+    // image, scores 0 like a feature without a value), their predicted depth and the offset
+    // (scene minus predicted) of each
+    const Mat& d = dc.depth;
+    const Point3i* samples = &(*t.samples)[0];
+    int pred[256], diff[256];
+    Point at[256];
+    int k = 0;
+    for (int i = 0; i < n; ++i)
+    {
+        const int x = origin.x + samples[i].x, y = origin.y + samples[i].y;
+        if ((unsigned)x >= (unsigned)d.cols || (unsigned)y >= (unsigned)d.rows)
+            continue;
+        const int z = d.ptr<ushort>(y)[x];
+        if (z == 0)
+            continue;
+        pred[k] = predictedDepth(t, row, samples[i]);
+        diff[k] = z - pred[k];
+        at[k++] = Point(x, y);
+    }
+    // fewer than a quarter of the samples with depth: every sample scores 0
+    if (k == 0 || 4 * k < n)
         return 0;
-    return depthSimilarityRange(dc, t, row, origin, offset, 0, n);
+    // the median offset; each sample then scores by how far its predicted depth plus the
+    // offset lies outside the scene's range around it
+    std::nth_element(diff, diff + k / 2, diff + k);
+    const int offset = diff[k / 2];
+    int sum = 0;
+    for (int j = 0; j < k; ++j)
+    {
+        const int z = pred[j] + offset;
+        const int lo = dc.zmin.ptr<ushort>(at[j].y)[at[j].x];
+        const int hi = dc.zmax.ptr<ushort>(at[j].y)[at[j].x];
+        sum += depthResponse(z < lo ? lo - z : z > hi ? z - hi : 0, dc.tolerance);
+    }
+    return sum;
 }
 
 } // namespace detail
