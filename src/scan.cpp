@@ -39,6 +39,12 @@ struct ScanContext
     /** [group][dim]: the dimension's plane + its window offset, for the location (0, 0) */
     std::vector<std::vector<const uchar*> > dim_ptr;
     std::vector<int> min_labels;           //!< [group]: flat-window limit, 0 = off
+    /** [group]: the window's grid as columns x rows, when it is a lattice (the x of a grid point
+    depends on its column only, its y on its row only, points row by row: how the index makes it)
+    so that the flat-window count is separable; 0 otherwise. grid_dx[group][column]: the column's
+    x from the first's */
+    std::vector<int> grid_cols;
+    std::vector<std::vector<int> > grid_dx;
     std::vector<std::vector<RootTest> > roots; //!< [group][tree]
     int max_trees;
     const std::vector<uchar>* row_allowed;
@@ -94,11 +100,37 @@ struct ScanScratch
     // tree) * W + c])
     std::vector<uchar> count8;
     std::vector<ushort> count16;
+    std::vector<int> count32;
     std::vector<uchar> flat, root_ok;
     std::vector<short> verdict;    //!< [group]: the location's verdicts (visitGroups)
 };
 
 } // namespace
+
+// The columns of a group's window grid when it is a lattice whose dimensions are the grid's
+// points per modality in the grid's order (ScanContext::grid_cols), else 0.
+static int latticeColumns(const SearchGroup& g)
+{
+    const int P = (int)g.grid.size();
+    int cols = 0;
+    while (cols < P && g.grid[cols].y == g.grid[0].y)
+        ++cols;
+    // the columns' counts are 8-bit (at most P / cols grid rows), their offsets from the first
+    // non-negative
+    if (P == 0 || P % cols != 0 || P / cols > 255 || g.dim_offset.size() != g.plane_of.size()
+        || g.dim_offset.size() % P != 0)
+        return 0;
+    for (int k = 0; k < cols; ++k)
+        if (g.grid[k].x < g.grid[0].x)
+            return 0;
+    for (int k = 0; k < P; ++k)
+        if (g.grid[k].x != g.grid[k % cols].x || g.grid[k].y != g.grid[k - k % cols].y)
+            return 0;
+    for (size_t j = 0; j < g.dim_offset.size(); ++j)
+        if (g.dim_offset[j] != g.grid[j % P] || g.plane_of[j] != (int)(j / P))
+            return 0;
+    return cols;
+}
 
 static ScanContext scanContext(const SearchIndex& index, const ScenePyramid& scene,
                                const DetectorParams& params, const std::vector<uchar>& allowed)
@@ -135,6 +167,12 @@ static ScanContext scanContext(const SearchIndex& index, const ScenePyramid& sce
         ctx.min_labels.push_back(params.min_window_labels > 0
                                      ? std::max(1, cvCeil(params.min_window_labels * g.min_labels))
                                      : 0);
+        int cols = latticeColumns(g);
+        ctx.grid_cols.push_back(cols);
+        std::vector<int> dx(cols);
+        for (int k = 0; k < cols; ++k)
+            dx[k] = g.grid[k].x - g.grid[0].x;
+        ctx.grid_dx.push_back(dx);
         std::vector<RootTest> roots(fp.num_trees);
         for (int t = 0; t < fp.num_trees; ++t)
         {
@@ -168,6 +206,35 @@ static ScanContext scanContext(const SearchIndex& index, const ScenePyramid& sce
     return ctx;
 }
 
+// The flat-window test of group gi for a row of W locations (byte offset `row` in the planes)
+// when its window is a lattice: per modality, the labelled values of each pixel's column of
+// grid rows (one counting pass per grid row over the row's pixels and the window's width), then
+// per location the sum of its grid columns' counts. The same counts as adding every dimension.
+static void flatWindowsOfLattice(const ScanContext& ctx, int gi, ptrdiff_t row, int W,
+                                 ScanScratch& s, uchar* flat)
+{
+    const int S = ctx.S, X = (W - 1) * S + 1;
+    const int cols = ctx.grid_cols[gi];
+    const std::vector<int>& dx = ctx.grid_dx[gi];
+    const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
+    const int P = (int)ctx.groups[gi]->grid.size(), rows = P / cols;
+    const int span = X + dx[cols - 1];
+    uchar* colsum = &s.count8[0];
+    std::vector<int>& count = s.count32;
+    count.assign(W, 0);
+    for (size_t m = 0; m * P < ptr.size(); ++m)
+    {
+        std::fill(colsum, colsum + span, (uchar)0); // at most `rows` (< 256) per pixel
+        for (int gy = 0; gy < rows; ++gy)
+            countLabels8(colsum, ptr[m * P + gy * cols] + row, span);
+        for (int c = 0; c < W; ++c)
+            for (int gx = 0; gx < cols; ++gx)
+                count[c] += colsum[c * S + dx[gx]];
+    }
+    for (int c = 0; c < W; ++c)
+        flat[c] = count[c] < ctx.min_labels[gi];
+}
+
 // The two tests that send most background locations out, for a row of W locations at once and
 // every active group, vectorised over the row's pixels (every S-th is a location): the flat
 // window (labelled values of the group's window) and the root rejector of every tree (accepted
@@ -184,7 +251,9 @@ static void rowTests(const ScanContext& ctx, int r, int W, ScanScratch& s)
         if (!ctx.active[gi])
             continue;
         uchar* flat = &s.flat[gi * W];
-        if (ctx.min_labels[gi] > 0)
+        if (ctx.min_labels[gi] > 0 && ctx.grid_cols[gi] > 0)
+            flatWindowsOfLattice(ctx, (int)gi, row, W, s, flat);
+        else if (ctx.min_labels[gi] > 0)
         {
             const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
             std::fill(count16, count16 + X, (ushort)0);
@@ -431,7 +500,11 @@ static ScanScratch scanScratch(const ScanContext& ctx, int W)
         D = std::max(D, ctx.dim_ptr[g].size());
     s.values.resize(D);
     const size_t X = (size_t)(W - 1) * ctx.S + 1;
-    s.count8.resize(X);
+    size_t span = X; // the flat-window test of a lattice counts over the window's width too
+    for (size_t g = 0; g < ctx.grid_dx.size(); ++g)
+        if (ctx.grid_cols[g] > 0)
+            span = std::max(span, X + (size_t)ctx.grid_dx[g].back());
+    s.count8.resize(span);
     s.count16.resize(X);
     s.flat.resize(ctx.groups.size() * W + 1);
     s.root_ok.resize(ctx.groups.size() * ctx.max_trees * W + 1);
