@@ -167,7 +167,7 @@ static ScanContext scanContext(const SearchIndex& index, const ScenePyramid& sce
         ctx.min_labels.push_back(params.min_window_labels > 0
                                      ? std::max(1, cvCeil(params.min_window_labels * g.min_labels))
                                      : 0);
-        int cols = latticeColumns(g);
+        const int cols = latticeColumns(g);
         ctx.grid_cols.push_back(cols);
         std::vector<int> dx(cols);
         for (int k = 0; k < cols; ++k)
