@@ -127,7 +127,7 @@ public:
     int rows() const { return depth_.rows; }
     int cols() const { return depth_.cols; }
 
-    Vec3d point(int x, int y, double z) const { return backProject(K_, x, y, z); }
+    Vec3d point(int x, int y, double z) const { return normals_.point(x, y, z); }
 
     ushort depth(int x, int y) const { return depth_.at<ushort>(y, x); }
 
@@ -212,6 +212,24 @@ SceneNormals::SceneNormals(const Mat& depth, const Matx33d& K, const ICPParams& 
                  "SceneNormals: the depth image must be a non-empty CV_16UC1 image (mm)");
     state_.reset(new std::atomic<uchar>[depth.total()]());
     normals_.create(depth.size(), CV_32FC3); // only read where computed: not filled
+    // backProject's per-row and per-column factors (the same operations, so the same values:
+    // without skew a column's factor does not depend on the row)
+    if (K(0, 1) == 0)
+    {
+        yn_.resize(depth.rows);
+        xn_.resize(depth.cols);
+        for (int y = 0; y < depth.rows; ++y)
+            yn_[y] = (y - K(1, 2)) / K(1, 1);
+        for (int x = 0; x < depth.cols; ++x)
+            xn_[x] = (x - K(0, 2) - K(0, 1) * yn_[0]) / K(0, 0);
+    }
+}
+
+Vec3d SceneNormals::point(int x, int y, double z) const
+{
+    if (xn_.empty())
+        return backProject(K_, x, y, z);
+    return Vec3d(xn_[x] * z, yn_[y] * z, z);
 }
 
 bool SceneNormals::madeFor(const Mat& depth, const Matx33d& K, const ICPParams& params) const
@@ -260,7 +278,7 @@ bool SceneNormals::compute(int x, int y, Vec3f& n) const
             const double z = row[xx];
             if (z <= 0 || std::abs(z - zc) > discontinuity_)
                 continue;
-            const Vec3d p = backProject(K_, xx, yy, z);
+            const Vec3d p = point(xx, yy, z);
             const Eigen::Vector3d e(p[0], p[1], p[2]);
             m += e;
             S += e * e.transpose();

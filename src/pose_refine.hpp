@@ -95,12 +95,16 @@ public:
     bool normal(int x, int y, Vec3f& n) const;
     /** Whether these are the normals of `depth` (the same data), `K` and `params`. */
     bool madeFor(const Mat& depth, const Matx33d& K, const ICPParams& params) const;
+    /** The camera point of pixel (x, y) of the image at depth z (mm), as back-projected through
+    K (without skew: from a factor per column and per row, computed once). */
+    Vec3d point(int x, int y, double z) const;
 
 private:
     bool compute(int x, int y, Vec3f& n) const;
 
     Mat depth_;
     Matx33d K_;
+    std::vector<double> xn_, yn_; // x / z of each column and y / z of each row; empty with skew
     int radius_;
     double discontinuity_;
     std::unique_ptr<std::atomic<uchar>[]> state_; // 0 not yet, 1 valid, 2 none, 3 in progress

@@ -315,6 +315,31 @@ TEST(Forestmod_Pose, icp_with_the_cpu_drawing_of_the_coarse_mesh)
                  cv::Exception);
 }
 
+// SceneNormals::point: the back-projection of a pixel, from per-column and per-row factors when K
+// has no skew, the same values as the formula (x - cx - s y_n) / fx, y_n = (y - cy) / fy, times z.
+TEST(Forestmod_Pose, scene_points_equal_the_back_projection)
+{
+    using namespace cv::forestmod::detail;
+    const Mat depth(48, 64, CV_16UC1, Scalar(700));
+    Matx33d K = lmoIntrinsics();
+    for (int skew = 0; skew < 2; ++skew)
+    {
+        K(0, 1) = skew ? 0.75 : 0.0;
+        const SceneNormals normals(depth, K, ICPParams());
+        for (int y = 0; y < depth.rows; y += 5)
+            for (int x = 0; x < depth.cols; x += 3)
+            {
+                const double z = 500.0 + 7 * x + y;
+                const double yn = (y - K(1, 2)) / K(1, 1);
+                const double xn = (x - K(0, 2) - K(0, 1) * yn) / K(0, 0);
+                const Vec3d p = normals.point(x, y, z);
+                ASSERT_EQ(p[0], xn * z) << x << " " << y << " skew " << skew;
+                ASSERT_EQ(p[1], yn * z) << x << " " << y << " skew " << skew;
+                ASSERT_EQ(p[2], z);
+            }
+    }
+}
+
 // The detector refines a frame's hypotheses in parallel on one set of scene normals
 // (detail::SceneNormals, each normal computed once): the same results, bit for bit, as each ICP
 // computing its own, whatever the order, the threads, and whether the normals are new or kept.
