@@ -267,8 +267,8 @@ bool SceneNormals::compute(int x, int y, Vec3f& n) const
     if (zc <= 0)
         return false;
     const int r = radius_;
-    Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    // the sums of the points and of their outer products (the upper triangle: e_i e_j = e_j e_i)
+    double sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
     int cnt = 0;
     for (int yy = std::max(0, y - r); yy <= std::min(depth_.rows - 1, y + r); ++yy)
     {
@@ -279,15 +279,24 @@ bool SceneNormals::compute(int x, int y, Vec3f& n) const
             if (z <= 0 || std::abs(z - zc) > discontinuity_)
                 continue;
             const Vec3d p = point(xx, yy, z);
-            const Eigen::Vector3d e(p[0], p[1], p[2]);
-            m += e;
-            S += e * e.transpose();
+            sx += p[0];
+            sy += p[1];
+            sz += p[2];
+            sxx += p[0] * p[0];
+            sxy += p[0] * p[1];
+            sxz += p[0] * p[2];
+            syy += p[1] * p[1];
+            syz += p[1] * p[2];
+            szz += p[2] * p[2];
             ++cnt;
         }
     }
     const int side = 2 * r + 1;
     if (cnt < std::max(5, side * side / 3))
         return false;
+    Eigen::Matrix3d S;
+    S << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
+    Eigen::Vector3d m(sx, sy, sz);
     m /= cnt;
     const Eigen::Matrix3d C = S / cnt - m * m.transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
