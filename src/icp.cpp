@@ -144,7 +144,10 @@ public:
     }
 
     /** Unit normal at pixel (x, y) facing the camera; false when it cannot be estimated. */
-    bool normal(int x, int y, Vec3f& n) const { return normals_.normal(x, y, n); }
+    bool normal(int x, int y, Vec3f& n, double& ray_cosine) const
+    {
+        return normals_.normal(x, y, n, ray_cosine);
+    }
 
 private:
     const Mat& depth_;
@@ -212,6 +215,7 @@ SceneNormals::SceneNormals(const Mat& depth, const Matx33d& K, const ICPParams& 
                  "SceneNormals: the depth image must be a non-empty CV_16UC1 image (mm)");
     state_.reset(new std::atomic<uchar>[depth.total()]());
     normals_.create(depth.size(), CV_32FC3); // only read where computed: not filled
+    cosine_.reset(new double[depth.total()]); // likewise
     // backProject's per-row and per-column factors (the same operations, so the same values:
     // without skew a column's factor does not depend on the row)
     if (K(0, 1) == 0)
@@ -241,6 +245,12 @@ bool SceneNormals::madeFor(const Mat& depth, const Matx33d& K, const ICPParams& 
 
 bool SceneNormals::normal(int x, int y, Vec3f& n) const
 {
+    double ray_cosine;
+    return normal(x, y, n, ray_cosine);
+}
+
+bool SceneNormals::normal(int x, int y, Vec3f& n, double& ray_cosine) const
+{
     const size_t i = (size_t)y * depth_.cols + x;
     std::atomic<uchar>& st = state_[i];
     uchar s = st.load(std::memory_order_acquire);
@@ -248,16 +258,29 @@ bool SceneNormals::normal(int x, int y, Vec3f& n) const
     if (s == 1 || s == 2)
     {
         n = stored;
+        ray_cosine = cosine_[i];
         return s == 1;
     }
     if (s == 0 && st.compare_exchange_strong(s, 3, std::memory_order_acq_rel))
     {
-        const bool ok = compute(x, y, n);
+        const bool ok = compute(x, y, n, ray_cosine);
         stored = n;
+        cosine_[i] = ray_cosine;
         st.store(ok ? 1 : 2, std::memory_order_release);
         return ok;
     }
-    return compute(x, y, n); // in progress in another thread: the same value, not stored
+    // in progress in another thread: the same values, not stored
+    return compute(x, y, n, ray_cosine);
+}
+
+bool SceneNormals::compute(int x, int y, Vec3f& n, double& ray_cosine) const
+{
+    ray_cosine = 0;
+    if (!compute(x, y, n))
+        return false;
+    const Vec3d s = point(x, y, depth_.at<ushort>(y, x));
+    ray_cosine = std::abs(Vec3d(n[0], n[1], n[2]).dot(s)) / cv::norm(s);
+    return true;
 }
 
 bool SceneNormals::compute(int x, int y, Vec3f& n) const
@@ -371,12 +394,13 @@ static void correspondences(const SceneCloud& cloud, const std::vector<Vec3d>& p
         if (!associate(cloud, c.q, params.search_radius, gate, px, c.s, d2))
             continue;
         Vec3f nf;
-        if (!cloud.normal(px.x, px.y, nf))
+        double ray_cosine; // |n . s| / |s|, kept with the pixel's normal (c.s is its point)
+        if (!cloud.normal(px.x, px.y, nf, ray_cosine))
             continue;
         c.n = Vec3d(nf[0], nf[1], nf[2]);
         c.r = c.n.dot(c.q - c.s);
         c.d = std::sqrt(d2);
-        c.g = std::max(std::abs(c.n.dot(c.s)) / cv::norm(c.s), params.min_ray_cosine);
+        c.g = std::max(ray_cosine, params.min_ray_cosine);
         corr.push_back(c);
     }
 }

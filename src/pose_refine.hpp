@@ -93,6 +93,9 @@ public:
     /** False when the pixel has no normal (no depth, or fewer than a third of its neighbourhood
     within the discontinuity). */
     bool normal(int x, int y, Vec3f& n) const;
+    /** normal(), and the cosine between it and the pixel's ray, |n . s| / |s| for the pixel's
+    point s (point()), kept with it (ICP weighs each correspondence by it); 0 without a normal. */
+    bool normal(int x, int y, Vec3f& n, double& ray_cosine) const;
     /** Whether these are the normals of `depth` (the same data), `K` and `params`. */
     bool madeFor(const Mat& depth, const Matx33d& K, const ICPParams& params) const;
     /** The camera point of pixel (x, y) of the image at depth z (mm), as back-projected through
@@ -101,6 +104,7 @@ public:
 
 private:
     bool compute(int x, int y, Vec3f& n) const;
+    bool compute(int x, int y, Vec3f& n, double& ray_cosine) const;
 
     Mat depth_;
     Matx33d K_;
@@ -109,6 +113,7 @@ private:
     double discontinuity_;
     std::unique_ptr<std::atomic<uchar>[]> state_; // 0 not yet, 1 valid, 2 none, 3 in progress
     mutable Mat normals_; // CV_32FC3, written where state_ says so (not initialised)
+    std::unique_ptr<double[]> cosine_; // the ray cosines, likewise
 };
 
 /** refineICP() against normals made for the same depth image, intrinsics and parameters. */
