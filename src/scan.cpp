@@ -39,10 +39,9 @@ struct ScanContext
     /** [group][dim]: the dimension's plane + its window offset, for the location (0, 0) */
     std::vector<std::vector<const uchar*> > dim_ptr;
     std::vector<int> min_labels;           //!< [group]: flat-window limit, 0 = off
-    /** [group]: the window's grid as columns x rows, when it is a lattice (the x of a grid point
-    depends on its column only, its y on its row only, points row by row: how the index makes it)
-    so that the flat-window count is separable; 0 otherwise. grid_dx[group][column]: the column's
-    x from the first's */
+    /** [group]: the columns of the window's grid, a lattice (the x of a grid point depends on its
+    column only, its y on its row only, points row by row: how the index makes it), so that the
+    flat-window count is separable; grid_dx[group][column]: the column's x from the first's */
     std::vector<int> grid_cols;
     std::vector<std::vector<int> > grid_dx;
     std::vector<std::vector<RootTest> > roots; //!< [group][tree]
@@ -99,7 +98,6 @@ struct ScanScratch
     // window is flat ([group * W + c]) and whether a tree's root passes ([(group * max_trees +
     // tree) * W + c])
     std::vector<uchar> count8;
-    std::vector<ushort> count16;
     std::vector<int> count32;
     std::vector<uchar> flat, root_ok;
     std::vector<short> verdict;    //!< [group]: the location's verdicts (visitGroups)
@@ -107,8 +105,8 @@ struct ScanScratch
 
 } // namespace
 
-// The columns of a group's window grid when it is a lattice whose dimensions are the grid's
-// points per modality in the grid's order (ScanContext::grid_cols), else 0.
+// The columns of a group's window grid, checked to be a lattice whose dimensions are the grid's
+// points per modality in the grid's order (ScanContext::grid_cols; the index makes no other).
 static int latticeColumns(const SearchGroup& g)
 {
     const int P = (int)g.grid.size();
@@ -117,18 +115,14 @@ static int latticeColumns(const SearchGroup& g)
         ++cols;
     // the columns' counts are 8-bit (at most P / cols grid rows), their offsets from the first
     // non-negative
-    if (P == 0 || P % cols != 0 || P / cols > 255 || g.dim_offset.size() != g.plane_of.size()
-        || g.dim_offset.size() % P != 0)
-        return 0;
-    for (int k = 0; k < cols; ++k)
-        if (g.grid[k].x < g.grid[0].x)
-            return 0;
-    for (int k = 0; k < P; ++k)
-        if (g.grid[k].x != g.grid[k % cols].x || g.grid[k].y != g.grid[k - k % cols].y)
-            return 0;
-    for (size_t j = 0; j < g.dim_offset.size(); ++j)
-        if (g.dim_offset[j] != g.grid[j % P] || g.plane_of[j] != (int)(j / P))
-            return 0;
+    bool lattice = P > 0 && P % cols == 0 && P / cols <= 255
+        && g.dim_offset.size() == g.plane_of.size() && g.dim_offset.size() % P == 0;
+    for (int k = 0; lattice && k < P; ++k)
+        lattice = g.grid[k].x == g.grid[k % cols].x && g.grid[k].y == g.grid[k - k % cols].y
+            && g.grid[k % cols].x >= g.grid[0].x;
+    for (size_t j = 0; lattice && j < g.dim_offset.size(); ++j)
+        lattice = g.dim_offset[j] == g.grid[j % P] && g.plane_of[j] == (int)(j / P);
+    CV_Assert(lattice && "forestmod scan: a search group's window is not a lattice");
     return cols;
 }
 
@@ -245,31 +239,13 @@ static void rowTests(const ScanContext& ctx, int r, int W, ScanScratch& s)
     const int X = (W - 1) * S + 1;
     const ptrdiff_t row = (ptrdiff_t)r * S * (ptrdiff_t)ctx.scene->plane_step;
     uchar* count8 = &s.count8[0];
-    ushort* count16 = &s.count16[0];
     for (size_t gi = 0; gi < ctx.groups.size(); ++gi)
     {
         if (!ctx.active[gi])
             continue;
         uchar* flat = &s.flat[gi * W];
-        if (ctx.min_labels[gi] > 0 && ctx.grid_cols[gi] > 0)
+        if (ctx.min_labels[gi] > 0)
             flatWindowsOfLattice(ctx, (int)gi, row, W, s, flat);
-        else if (ctx.min_labels[gi] > 0)
-        {
-            const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
-            std::fill(count16, count16 + X, (ushort)0);
-            std::fill(count8, count8 + X, (uchar)0);
-            for (size_t j = 0; j < ptr.size(); ++j)
-            {
-                countLabels8(count8, ptr[j] + row, X);
-                if (j % 255 == 254 || j + 1 == ptr.size()) // 8-bit counts stay under 256
-                {
-                    widenAdd(count16, count8, X);
-                    std::fill(count8, count8 + X, (uchar)0);
-                }
-            }
-            for (int c = 0; c < W; ++c)
-                flat[c] = count16[c * S] < ctx.min_labels[gi];
-        }
         else
             std::fill(flat, flat + W, (uchar)0);
         for (int t = 0; t < ctx.trees[gi]; ++t)
@@ -500,12 +476,10 @@ static ScanScratch scanScratch(const ScanContext& ctx, int W)
         D = std::max(D, ctx.dim_ptr[g].size());
     s.values.resize(D);
     const size_t X = (size_t)(W - 1) * ctx.S + 1;
-    size_t span = X; // the flat-window test of a lattice counts over the window's width too
+    size_t span = X; // the flat-window test counts over the window's width too
     for (size_t g = 0; g < ctx.grid_dx.size(); ++g)
-        if (ctx.grid_cols[g] > 0)
-            span = std::max(span, X + (size_t)ctx.grid_dx[g].back());
+        span = std::max(span, X + (size_t)ctx.grid_dx[g].back());
     s.count8.resize(span);
-    s.count16.resize(X);
     s.flat.resize(ctx.groups.size() * W + 1);
     s.root_ok.resize(ctx.groups.size() * ctx.max_trees * W + 1);
     s.verdict.resize(ctx.groups.size() + 1);

@@ -28,11 +28,6 @@ void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n)
     FORESTMOD_DISPATCH(sumRuns16(out, base, off, n_off, n));
 }
 
-void widenAdd(ushort* dst, const uchar* src, int n)
-{
-    FORESTMOD_DISPATCH(widenAdd(dst, src, n));
-}
-
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride)
 {
     FORESTMOD_DISPATCH(addBlocks16(acc, src, n, stride));

@@ -26,8 +26,6 @@ whose 8-bit sums of up to 63 features stay in registers, then widened. Writes wh
 must hold n rounded up to 64) and reads as far from every base + off[k]
 (LinearMemories::kSlack). */
 CV_EXPORTS void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n);
-/** dst[0 .. n) += src[0 .. n), widened to 16 bits. */
-void widenAdd(ushort* dst, const uchar* src, int n);
 /** acc[r * 16 + c] += sum over k of src[k][r * stride + c]: n 16 x 16 blocks of responses
 (values <= 4; summed in 8 bits, 63 blocks at a time, in registers). */
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);

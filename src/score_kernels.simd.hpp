@@ -23,7 +23,6 @@ namespace detail {
 namespace FORESTMOD_KERNELS_NAMESPACE {
 
 void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n);
-void widenAdd(ushort* dst, const uchar* src, int n);
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
 void countLabels8(uchar* dst, const uchar* src, int n);
 void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok);
@@ -47,23 +46,6 @@ static inline int lowestBit(unsigned m)
     }
     return i;
 #endif
-}
-
-void widenAdd(ushort* dst, const uchar* src, int n)
-{
-    int k = 0;
-#if CV_SIMD
-    const int w = v_uint8::nlanes;
-    for (; k <= n - w; k += w)
-    {
-        v_uint16 lo, hi;
-        v_expand(vx_load(src + k), lo, hi);
-        v_store(dst + k, vx_load(dst + k) + lo);
-        v_store(dst + k + w / 2, vx_load(dst + k + w / 2) + hi);
-    }
-#endif
-    for (; k < n; ++k)
-        dst[k] = (ushort)(dst[k] + src[k]);
 }
 
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride)
