@@ -116,6 +116,11 @@ private:
     std::unique_ptr<double[]> cosine_; // the ray cosines, likewise
 };
 
+/** The median of ICP's robust scales: the element of rank v.size() / 2 of non-negative, finite
+values, as std::nth_element finds it (v is reordered). Selected through a count of the values
+in 256 bins of [0, max v] and nth_element within the bin that holds the rank. */
+CV_EXPORTS double medianOfNonNegative(std::vector<double>& v);
+
 /** refineICP() against normals made for the same depth image, intrinsics and parameters. */
 CV_EXPORTS ICPResult refineICP(const std::vector<Point3f>& model_points, const Mat& scene_depth,
                                const Matx33d& K, const Matx33d& R0, const Vec3d& t0,

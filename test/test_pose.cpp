@@ -340,6 +340,35 @@ TEST(Forestmod_Pose, scene_points_equal_the_back_projection)
     }
 }
 
+// ICP's median (detail::medianOfNonNegative, a count in bins, then nth_element within one bin)
+// is the value std::nth_element puts at rank size / 2: few and many values, ties, zeros, a long
+// tail (most values in the first bin), a value in the last bin, all equal.
+TEST(Forestmod_Pose, icp_median_equals_nth_element)
+{
+    RNG rng(17);
+    const int sizes[] = { 1, 2, 63, 64, 65, 1000, 4001 };
+    for (int kind = 0; kind < 5; ++kind)
+        for (size_t si = 0; si < sizeof(sizes) / sizeof(sizes[0]); ++si)
+            for (int rep = 0; rep < 4; ++rep)
+            {
+                std::vector<double> v(sizes[si]);
+                for (size_t i = 0; i < v.size(); ++i)
+                {
+                    const double u = rng.uniform(0.0, 30.0);
+                    v[i] = kind == 0 ? u
+                        : kind == 1 ? std::floor(u) * 0.5           // ties
+                        : kind == 2 ? (rng.uniform(0, 3) ? 0.0 : u) // zeros
+                        : kind == 3 ? std::exp(rng.uniform(-8.0, 8.0)) // long tail
+                                    : 2.5;                          // all equal
+                }
+                std::vector<double> expected = v, got = v;
+                const size_t m = v.size() / 2;
+                std::nth_element(expected.begin(), expected.begin() + m, expected.end());
+                ASSERT_EQ(cv::forestmod::detail::medianOfNonNegative(got), expected[m])
+                    << "kind " << kind << " size " << v.size() << " rep " << rep;
+            }
+}
+
 // The detector refines a frame's hypotheses in parallel on one set of scene normals
 // (detail::SceneNormals, each normal computed once): the same results, bit for bit, as each ICP
 // computing its own, whatever the order, the threads, and whether the normals are new or kept.
