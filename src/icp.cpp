@@ -259,11 +259,9 @@ SceneNormals::SceneNormals(const Mat& depth, const Matx33d& K, const ICPParams& 
     }
 }
 
-Vec3d SceneNormals::point(int x, int y, double z) const
+Vec3d SceneNormals::skewedPoint(int x, int y, double z) const
 {
-    if (xn_.empty())
-        return backProject(K_, x, y, z);
-    return Vec3d(xn_[x] * z, yn_[y] * z, z);
+    return backProject(K_, x, y, z);
 }
 
 bool SceneNormals::madeFor(const Mat& depth, const Matx33d& K, const ICPParams& params) const

@@ -100,9 +100,13 @@ public:
     bool madeFor(const Mat& depth, const Matx33d& K, const ICPParams& params) const;
     /** The camera point of pixel (x, y) of the image at depth z (mm), as back-projected through
     K (without skew: from a factor per column and per row, computed once). */
-    Vec3d point(int x, int y, double z) const;
+    Vec3d point(int x, int y, double z) const
+    {
+        return xn_.empty() ? skewedPoint(x, y, z) : Vec3d(xn_[x] * z, yn_[y] * z, z);
+    }
 
 private:
+    Vec3d skewedPoint(int x, int y, double z) const; // point() with skew: the formula
     bool compute(int x, int y, Vec3f& n) const;
     bool compute(int x, int y, Vec3f& n, double& ray_cosine) const;
 
