@@ -304,14 +304,18 @@ static int locationCode(const ScanContext& ctx, const short* verdict, int c, int
     return deepest >= 0 ? deepest : flat ? FLAT : DEPTH_RANGE;
 }
 
-// Gathers a window's values (one per dimension of its group) and counts the labelled ones.
+// Gathers a window's values (one per dimension of its group) and counts the labelled ones. The
+// pointers and their count are read once: a store through `values` (uchar) could alias them.
 static int gatherWindow(const std::vector<const uchar*>& ptr, ptrdiff_t offset, uchar* values)
 {
+    const uchar* const* p = ptr.data();
+    const size_t n = ptr.size();
     int labelled = 0;
-    for (size_t j = 0; j < ptr.size(); ++j)
+    for (size_t j = 0; j < n; ++j)
     {
-        values[j] = ptr[j][offset];
-        labelled += values[j] != 0;
+        const uchar v = p[j][offset];
+        values[j] = v;
+        labelled += v != 0;
     }
     return labelled;
 }
