@@ -120,9 +120,10 @@ private:
     std::unique_ptr<double[]> cosine_; // the ray cosines, likewise
 };
 
-/** The median of ICP's robust scales: the element of rank v.size() / 2 of non-negative, finite
-values, as std::nth_element finds it (v is reordered). Selected through a count of the values
-in 256 bins of [0, max v] and nth_element within the bin that holds the rank. */
+/** The median of ICP's robust scales: the element of rank v.size() / 2, as std::nth_element
+finds it (v is reordered). Non-negative, finite values are counted in 256 bins of [0, max v] and
+nth_element runs within the bin that holds the rank; other values (or fewer than 64) go to
+nth_element over all of them. */
 CV_EXPORTS double medianOfNonNegative(std::vector<double>& v);
 
 /** refineICP() against normals made for the same depth image, intrinsics and parameters. */

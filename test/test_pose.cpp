@@ -342,12 +342,12 @@ TEST(Forestmod_Pose, scene_points_equal_the_back_projection)
 
 // ICP's median (detail::medianOfNonNegative, a count in bins, then nth_element within one bin)
 // is the value std::nth_element puts at rank size / 2: few and many values, ties, zeros, a long
-// tail (most values in the first bin), a value in the last bin, all equal.
+// tail (most values in the first bin), all equal, and negative values (not binned: nth_element).
 TEST(Forestmod_Pose, icp_median_equals_nth_element)
 {
     RNG rng(17);
     const int sizes[] = { 1, 2, 63, 64, 65, 1000, 4001 };
-    for (int kind = 0; kind < 5; ++kind)
+    for (int kind = 0; kind < 6; ++kind)
         for (size_t si = 0; si < sizeof(sizes) / sizeof(sizes[0]); ++si)
             for (int rep = 0; rep < 4; ++rep)
             {
@@ -359,7 +359,8 @@ TEST(Forestmod_Pose, icp_median_equals_nth_element)
                         : kind == 1 ? std::floor(u) * 0.5           // ties
                         : kind == 2 ? (rng.uniform(0, 3) ? 0.0 : u) // zeros
                         : kind == 3 ? std::exp(rng.uniform(-8.0, 8.0)) // long tail
-                                    : 2.5;                          // all equal
+                        : kind == 4 ? 2.5                           // all equal
+                                    : u - 20;                       // negative values
                 }
                 std::vector<double> expected = v, got = v;
                 const size_t m = v.size() / 2;
