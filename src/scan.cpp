@@ -7,6 +7,7 @@
 #include "precomp.hpp"
 #include "scan.hpp"
 #include "score_kernels.hpp"
+#include "opencv2/core/hal/intrin.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -101,6 +102,12 @@ struct ScanScratch
     std::vector<int> count32;
     std::vector<uchar> flat, root_ok;
     std::vector<short> verdict;    //!< [group]: the location's verdicts (visitGroups)
+    // the windows of a row's locations gathered at once (gatherRowWindows): group g's window
+    // of location c at windows[window_offset[g] + c * D_g]; row_windows[g]: 0 not decided for
+    // the row, 1 gathered, 2 gathered location by location
+    std::unique_ptr<uchar[]> windows;
+    std::vector<size_t> window_offset;
+    std::vector<uchar> row_windows;
 };
 
 } // namespace
@@ -320,6 +327,81 @@ static int gatherWindow(const std::vector<const uchar*>& ptr, ptrdiff_t offset, 
     return labelled;
 }
 
+// scan.hpp. With S == 4, 16 locations at a time: a dimension's 16 values with one load of 64
+// bytes (every 4th byte), then a 16 x 16 transpose (four rounds of interleaving rows j and j + 8)
+// gives 16 dimensions of each location; the last locations (whose 64-byte load would pass the
+// last location's byte) and the dimensions past a multiple of 16 are gathered one by one.
+void gatherRowWindows(const std::vector<const uchar*>& ptr, ptrdiff_t row, int W, int S,
+                      uchar* win)
+{
+    const int D = (int)ptr.size();
+    const uchar* const* p = ptr.data();
+    int c0 = 0;
+#if CV_SIMD128
+    if (S == 4)
+        for (; c0 + 16 <= W - 1; c0 += 16)
+        {
+            const ptrdiff_t at = row + (ptrdiff_t)c0 * S;
+            uchar* out = win + (size_t)c0 * D;
+            int j0 = 0;
+            for (; j0 + 16 <= D; j0 += 16)
+            {
+                v_uint8x16 x[16], y[16], skip1, skip2, skip3;
+                for (int k = 0; k < 16; ++k)
+                    v_load_deinterleave(p[j0 + k] + at, x[k], skip1, skip2, skip3);
+                for (int round = 0; round < 4; ++round)
+                {
+                    for (int k = 0; k < 8; ++k)
+                        v_zip(x[k], x[k + 8], y[2 * k], y[2 * k + 1]);
+                    for (int k = 0; k < 16; ++k)
+                        x[k] = y[k];
+                }
+                for (int i = 0; i < 16; ++i)
+                    v_store(out + (size_t)i * D + j0, x[i]);
+            }
+            for (int i = 0; i < 16; ++i)
+                for (int j = j0; j < D; ++j)
+                    out[(size_t)i * D + j] = p[j][at + i * S];
+        }
+#endif
+    for (int c = c0; c < W; ++c)
+    {
+        const ptrdiff_t at = row + (ptrdiff_t)c * S;
+        uchar* out = win + (size_t)c * D;
+        for (int j = 0; j < D; ++j)
+            out[j] = p[j][at];
+    }
+}
+
+// The window of location (c, r) of group gi that passed its row's tests (s.flat, s.root_ok):
+// gathered with the rest of the row's windows when half the row's locations pass them (made at
+// the first such location), else on its own into s.values.
+static const uchar* locationWindow(const ScanContext& ctx, int gi, int c, int r, int W,
+                                   ScanScratch& s)
+{
+    const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
+    const ptrdiff_t row = (ptrdiff_t)r * ctx.S * (ptrdiff_t)ctx.scene->plane_step;
+    uchar& state = s.row_windows[gi];
+    if (state == 0)
+    {
+        int passing = 0;
+        for (int k = 0; k < W; ++k)
+        {
+            bool any_root = false;
+            for (int t = 0; t < ctx.trees[gi] && !any_root; ++t)
+                any_root = s.root_ok[((size_t)gi * ctx.max_trees + t) * W + k] != 0;
+            passing += any_root && !s.flat[gi * W + k];
+        }
+        state = 2 * passing >= W ? 1 : 2;
+        if (state == 1)
+            gatherRowWindows(ptr, row, W, ctx.S, s.windows.get() + s.window_offset[gi]);
+    }
+    if (state == 1)
+        return s.windows.get() + s.window_offset[gi] + (size_t)c * ptr.size();
+    gatherWindow(ptr, row + (ptrdiff_t)c * ctx.S, &s.values[0]);
+    return &s.values[0];
+}
+
 // Group gi's verdict on location (c, r): out of its depth range, a flat window, or its forest
 // (every tree). An accepting group's leaves go to s.leaves. `row_tested`: the flat window and the
 // roots were tested on the whole row (rowTests, in s); else they are tested here.
@@ -333,14 +415,14 @@ static short visitGroup(const ScanContext& ctx, int gi, int c, int r, int W, Sca
     if (row_tested && s.flat[gi * W + c])
         return FLAT;
     // the window's values, gathered for the first tree whose root passes, once for all trees
-    uchar* values = &s.values[0];
+    const uchar* values = &s.values[0];
     bool gathered = false;
     const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
     const ptrdiff_t offset = (ptrdiff_t)r * ctx.S * (ptrdiff_t)scene.plane_step + c * ctx.S;
     if (!row_tested)
     {
         gathered = true;
-        if (gatherWindow(ptr, offset, values) < ctx.min_labels[gi])
+        if (gatherWindow(ptr, offset, &s.values[0]) < ctx.min_labels[gi])
             return FLAT;
     }
     // the trees (TemplateForest::query's rule): with reject_any_tree one rejecting tree
@@ -356,7 +438,7 @@ static short visitGroup(const ScanContext& ctx, int gi, int c, int r, int W, Sca
             || s.root_ok[((size_t)gi * ctx.max_trees + t) * W + c] != 0;
         if (root_ok && !gathered)
         {
-            gatherWindow(ptr, offset, values);
+            values = locationWindow(ctx, gi, c, r, W, s);
             gathered = true;
         }
         if (root_ok && grp.forest->leaf(t, values, ids, n, &depth, root_tested))
@@ -437,6 +519,7 @@ static void scanRow(const ScanContext& ctx, int r, int W, Mat* map, RowOutput& o
     const std::vector<uchar>& allowed = *ctx.row_allowed;
     const int words = (int)s.bits.size();
     rowTests(ctx, r, W, s);
+    std::fill(s.row_windows.begin(), s.row_windows.end(), (uchar)0);
     for (int c = 0; c < W; ++c)
     {
         const bool marked = visitGroups(ctx, c, r, W, s);
@@ -487,6 +570,15 @@ static ScanScratch scanScratch(const ScanContext& ctx, int W)
     s.flat.resize(ctx.groups.size() * W + 1);
     s.root_ok.resize(ctx.groups.size() * ctx.max_trees * W + 1);
     s.verdict.resize(ctx.groups.size() + 1);
+    size_t windows = 0;
+    s.window_offset.resize(ctx.groups.size());
+    for (size_t g = 0; g < ctx.groups.size(); ++g)
+    {
+        s.window_offset[g] = windows;
+        windows += (size_t)W * ctx.dim_ptr[g].size();
+    }
+    s.windows.reset(new uchar[windows + 1]); // written before it is read (gatherRowWindows)
+    s.row_windows.assign(ctx.groups.size(), 0);
     return s;
 }
 

@@ -52,6 +52,13 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
                    const DetectorParams& params, const std::vector<uchar>& row_allowed,
                    bool rejection_map, LocationCandidates& out);
 
+/** The descriptor windows of a row of W locations, as the scan reads them: window c holds
+ptr[j][row + c * S] for every dimension j (D = ptr.size() bytes), stored at win + c * D. With
+S = 4 (the default location step) 16 locations at a time through a transpose; the same bytes as
+one load per value. */
+CV_EXPORTS void gatherRowWindows(const std::vector<const uchar*>& ptr, ptrdiff_t row, int W,
+                                 int S, uchar* win);
+
 } // namespace detail
 } // namespace forestmod
 } // namespace cv

@@ -4,6 +4,7 @@
 
 #include "test_precomp.hpp"
 #include "../src/model_check.hpp"
+#include "../src/scan.hpp"
 
 namespace opencv_test { namespace {
 
@@ -920,6 +921,35 @@ TEST(Forestmod_Detector, search_groups_of_templates_split_one_class_by_size)
         }
         EXPECT_TRUE(small && large) << "both sizes found, by_template " << by_template;
     }
+}
+
+// The scan's row of windows (detail::gatherRowWindows): window c holds ptr[j][row + c * S] for
+// every dimension j, whatever the step (the transposed path at S = 4), the number of locations
+// (blocks of 16 and the rest) and of dimensions (multiples of 16 and the rest).
+TEST(Forestmod_Scan, row_windows_equal_one_load_per_value)
+{
+    RNG rng(23);
+    const int steps[] = { 1, 2, 4, 8 };
+    const int widths[] = { 1, 16, 17, 33, 80 };
+    const int dims[] = { 16, 288, 437 };
+    for (int S : steps)
+        for (int W : widths)
+            for (int D : dims)
+            {
+                Mat planes(24, (W + 20) * S + 64, CV_8UC1);
+                rng.fill(planes, RNG::UNIFORM, 0, 256);
+                std::vector<const uchar*> ptr(D);
+                for (int j = 0; j < D; ++j)
+                    ptr[j] = planes.ptr<uchar>(rng.uniform(0, planes.rows))
+                        + rng.uniform(0, 16 * S);
+                const ptrdiff_t row = 3;
+                std::vector<uchar> win((size_t)W * D, 0);
+                cv::forestmod::detail::gatherRowWindows(ptr, row, W, S, win.data());
+                for (int c = 0; c < W; ++c)
+                    for (int j = 0; j < D; ++j)
+                        ASSERT_EQ(win[(size_t)c * D + j], ptr[j][row + c * S])
+                            << "S " << S << " W " << W << " D " << D << " c " << c << " j " << j;
+            }
 }
 
 }} // namespace
