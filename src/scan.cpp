@@ -335,9 +335,9 @@ void gatherRowWindows(const std::vector<const uchar*>& ptr, ptrdiff_t row, int W
                       uchar* win)
 {
     const int D = (int)ptr.size();
-    const uchar* const* p = ptr.data();
     int c0 = 0;
 #if CV_SIMD128
+    const uchar* const* p = ptr.data();
     if (S == 4)
         for (; c0 + 16 <= W - 1; c0 += 16)
         {
@@ -365,22 +365,16 @@ void gatherRowWindows(const std::vector<const uchar*>& ptr, ptrdiff_t row, int W
         }
 #endif
     for (int c = c0; c < W; ++c)
-    {
-        const ptrdiff_t at = row + (ptrdiff_t)c * S;
-        uchar* out = win + (size_t)c * D;
-        for (int j = 0; j < D; ++j)
-            out[j] = p[j][at];
-    }
+        gatherWindow(ptr, row + (ptrdiff_t)c * S, win + (size_t)c * D);
 }
 
-// The window of location (c, r) of group gi that passed its row's tests (s.flat, s.root_ok):
-// gathered with the rest of the row's windows when half the row's locations pass them (made at
-// the first such location), else on its own into s.values.
-static const uchar* locationWindow(const ScanContext& ctx, int gi, int c, int r, int W,
-                                   ScanScratch& s)
+// The window of location c of group gi (at byte `offset` of the planes) that passed its row's
+// tests (s.flat, s.root_ok): gathered with the rest of the row's windows when half the row's
+// locations pass them (made at the first such location), else on its own into s.values.
+static const uchar* locationWindow(const ScanContext& ctx, int gi, int c, ptrdiff_t offset,
+                                   int W, ScanScratch& s)
 {
     const std::vector<const uchar*>& ptr = ctx.dim_ptr[gi];
-    const ptrdiff_t row = (ptrdiff_t)r * ctx.S * (ptrdiff_t)ctx.scene->plane_step;
     uchar& state = s.row_windows[gi];
     if (state == 0)
     {
@@ -393,12 +387,13 @@ static const uchar* locationWindow(const ScanContext& ctx, int gi, int c, int r,
             passing += any_root && !s.flat[gi * W + k];
         }
         state = 2 * passing >= W ? 1 : 2;
-        if (state == 1)
-            gatherRowWindows(ptr, row, W, ctx.S, s.windows.get() + s.window_offset[gi]);
+        if (state == 1) // the row's first location: offset - c * S
+            gatherRowWindows(ptr, offset - (ptrdiff_t)c * ctx.S, W, ctx.S,
+                             s.windows.get() + s.window_offset[gi]);
     }
     if (state == 1)
         return s.windows.get() + s.window_offset[gi] + (size_t)c * ptr.size();
-    gatherWindow(ptr, row + (ptrdiff_t)c * ctx.S, &s.values[0]);
+    gatherWindow(ptr, offset, &s.values[0]);
     return &s.values[0];
 }
 
@@ -438,7 +433,7 @@ static short visitGroup(const ScanContext& ctx, int gi, int c, int r, int W, Sca
             || s.root_ok[((size_t)gi * ctx.max_trees + t) * W + c] != 0;
         if (root_ok && !gathered)
         {
-            values = locationWindow(ctx, gi, c, r, W, s);
+            values = locationWindow(ctx, gi, c, offset, W, s);
             gathered = true;
         }
         if (root_ok && grp.forest->leaf(t, values, ids, n, &depth, root_tested))
