@@ -112,6 +112,156 @@ int closedWinding(const Mesh& mesh)
     return volume > 0 ? 1 : -1;
 }
 
+// Key of a unit vector on a 16 x 16 octahedral grid of directions (0 .. 255).
+static int directionCell(const Vec3d& n)
+{
+    const double s = std::abs(n[0]) + std::abs(n[1]) + std::abs(n[2]);
+    double u = n[0] / s, v = n[1] / s;
+    if (n[2] < 0)
+    {
+        const double fu = (1 - std::abs(v)) * (u >= 0 ? 1 : -1);
+        v = (1 - std::abs(u)) * (v >= 0 ? 1 : -1);
+        u = fu;
+    }
+    const int bu = std::min(15, std::max(0, (int)((u + 1) * 8)));
+    const int bv = std::min(15, std::max(0, (int)((v + 1) * 8)));
+    return bu * 16 + bv;
+}
+
+// Z-order code of a cell (x, y, z in 0 .. 31).
+static int zOrder(int x, int y, int z)
+{
+    int code = 0;
+    for (int b = 0; b < 5; ++b)
+        code |= (((x >> b) & 1) << (3 * b + 2)) | (((y >> b) & 1) << (3 * b + 1))
+            | (((z >> b) & 1) << (3 * b));
+    return code;
+}
+
+// The faces in their new order, renumbered vertices first used in that order.
+static void reorderMesh(Mesh& mesh, const std::vector<int>& order)
+{
+    const size_t nv = mesh.vertices.size();
+    std::vector<int> newIndex(nv, -1), oldIndex;
+    oldIndex.reserve(nv);
+    std::vector<Vec3i> faces(order.size());
+    for (size_t i = 0; i < order.size(); ++i)
+        for (int k = 0; k < 3; ++k)
+        {
+            int& n = newIndex[mesh.faces[order[i]][k]];
+            if (n < 0)
+            {
+                n = (int)oldIndex.size();
+                oldIndex.push_back(mesh.faces[order[i]][k]);
+            }
+            faces[i][k] = n;
+        }
+    for (size_t v = 0; v < nv; ++v) // vertices of no face keep their place after the others
+        if (newIndex[v] < 0)
+            oldIndex.push_back((int)v);
+    Mesh out;
+    out.faces.swap(faces);
+    for (size_t i = 0; i < nv; ++i)
+    {
+        out.vertices.push_back(mesh.vertices[oldIndex[i]]);
+        if (mesh.normals.size() == nv)
+            out.normals.push_back(mesh.normals[oldIndex[i]]);
+        if (mesh.colors.size() == nv)
+            out.colors.push_back(mesh.colors[oldIndex[i]]);
+    }
+    mesh = out;
+}
+
+FaceClusters clusterFaces(Mesh& mesh, int winding)
+{
+    FaceClusters clusters;
+    const size_t nf = mesh.faces.size();
+    if (winding == 0 || nf == 0)
+        return clusters;
+    const int kMaxFaces = 16;
+    const Point3f lo = mesh.bboxMin(), hi = mesh.bboxMax();
+    const double side = std::max(std::max(hi.x - lo.x, hi.y - lo.y), std::max(hi.z - lo.z, 1e-6f));
+    // outward unit normals; faces too thin for a reliable normal go last, never skipped
+    std::vector<Vec3d> normal(nf);
+    std::vector<std::pair<int64, int> > key(nf);
+    for (size_t f = 0; f < nf; ++f)
+    {
+        const Vec3i& F = mesh.faces[f];
+        const Point3f &a = mesh.vertices[F[0]], &b = mesh.vertices[F[1]], &c = mesh.vertices[F[2]];
+        const Vec3d e1(b.x - a.x, b.y - a.y, b.z - a.z), e2(c.x - a.x, c.y - a.y, c.z - a.z);
+        const Vec3d n = e1.cross(e2) * (double)winding;
+        const double len = cv::norm(n), edge = std::max(e1.dot(e1), e2.dot(e2));
+        const bool thin = !(len > 1e-6 * edge);
+        normal[f] = thin ? Vec3d() : n / len;
+        const Point3f m = (a + b + c) * (1.f / 3);
+        const int cell = zOrder(std::min(31, (int)((m.x - lo.x) / side * 32)),
+                                std::min(31, (int)((m.y - lo.y) / side * 32)),
+                                std::min(31, (int)((m.z - lo.z) / side * 32)));
+        key[f] = std::make_pair((int64)(thin ? 256 : directionCell(normal[f])) << 16 | cell,
+                                (int)f);
+    }
+    std::sort(key.begin(), key.end());
+    std::vector<int> order(nf);
+    for (size_t i = 0; i < nf; ++i)
+        order[i] = key[i].second;
+    for (size_t i = 0; i < nf;)
+    {
+        size_t e = i + 1;
+        while (e < nf && e - i < (size_t)kMaxFaces && key[e].first >> 16 == key[i].first >> 16)
+            ++e;
+        Vec3d axis, lo3(DBL_MAX, DBL_MAX, DBL_MAX), hi3(-DBL_MAX, -DBL_MAX, -DBL_MAX);
+        bool thin = false;
+        for (size_t j = i; j < e; ++j)
+        {
+            axis += normal[order[j]];
+            thin = thin || normal[order[j]] == Vec3d();
+            for (int k = 0; k < 3; ++k)
+            {
+                const Point3f& v = mesh.vertices[mesh.faces[order[j]][k]];
+                lo3 = Vec3d(std::min(lo3[0], (double)v.x), std::min(lo3[1], (double)v.y),
+                            std::min(lo3[2], (double)v.z));
+                hi3 = Vec3d(std::max(hi3[0], (double)v.x), std::max(hi3[1], (double)v.y),
+                            std::max(hi3[2], (double)v.z));
+            }
+        }
+        const double len = cv::norm(axis);
+        double cos_half = thin || !(len > 0) ? -1 : 1;
+        if (cos_half > 0)
+        {
+            axis /= len;
+            for (size_t j = i; j < e; ++j)
+                cos_half = std::min(cos_half, normal[order[j]].dot(axis));
+        }
+        const Vec3d centre = (lo3 + hi3) * 0.5;
+        clusters.begin.push_back((int)i);
+        clusters.cone.push_back(Vec4d(axis[0], axis[1], axis[2], cos_half));
+        clusters.sphere.push_back(Vec4d(centre[0], centre[1], centre[2],
+                                        cv::norm(hi3 - lo3) * 0.5));
+        i = e;
+    }
+    clusters.begin.push_back((int)nf);
+    reorderMesh(mesh, order);
+    return clusters;
+}
+
+bool FaceClusters::facesAway(int k, const Vec3d& centre) const
+{
+    const Vec4d& c = cone[k];
+    const Vec4d& s = sphere[k];
+    if (!(c[3] > 0))
+        return false;
+    const Vec3d v(s[0] - centre[0], s[1] - centre[1], s[2] - centre[2]);
+    const double dist = std::sqrt(v.dot(v));
+    if (!(dist > s[3]))
+        return false;
+    const double cos_phi = (c[0] * v[0] + c[1] * v[1] + c[2] * v[2]) / dist;
+    const double sin_phi = std::sqrt(std::max(0.0, 1 - cos_phi * cos_phi));
+    const double sin_half = std::sqrt(std::max(0.0, 1 - c[3] * c[3]));
+    // cos(phi + half angle) > sin(the ball's angle), with a margin of 1e-3 for faces nearly
+    // edge-on, whose projected area's sign the float projection decides
+    return cos_phi * c[3] - sin_phi * sin_half > s[3] / dist + 1e-3;
+}
+
 // twice the signed area of a projected face (u, v, z corners)
 static inline float signedArea(const Vec3f& a, const Vec3f& b, const Vec3f& c)
 {
@@ -285,19 +435,12 @@ static inline int faceBounds4(const Vec3i* faces, const float* p, float inside_s
 }
 #endif
 
-// The nearest face of every pixel (z-buffer and face index); p receives the projected vertices
-// (u, v in the crop, z), from which the colour of the nearest faces only is interpolated
-// afterwards (colourVisibleFaces), so that the faces drawn over do not cost their colours.
-// Faces are drawn in index order; a pixel keeps the first of equally near faces.
-static void rasterize(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
-                      const Vec3d& t, Size image, int margin, Drawing& d, std::vector<Vec3f>& p)
+// The crop around the projection of the mesh's bounding box, widened by margin and clipped to the
+// image; false when a corner is behind the camera, the box lies far off the image or the crop is
+// empty.
+static bool cropOf(const Mesh& mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t,
+                   Size image, int margin, Rect& rect)
 {
-    d = Drawing();
-    d.K = K;
-    d.R = R;
-    d.t = t;
-    d.image = image;
-    d.margin = margin;
     const Point3f lo = mesh.bboxMin(), hi = mesh.bboxMax();
     double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
     for (int c = 0; c < 8; ++c)
@@ -305,7 +448,7 @@ static void rasterize(const Mesh& mesh, int winding, const Matx33d& K, const Mat
         const Vec3d X = R * Vec3d(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z)
             + t;
         if (!(X[2] > 1.0))
-            return;
+            return false;
         const Vec3d q = K * X;
         x0 = std::min(x0, q[0] / q[2]);
         y0 = std::min(y0, q[1] / q[2]);
@@ -314,11 +457,66 @@ static void rasterize(const Mesh& mesh, int winding, const Matx33d& K, const Mat
     }
     if (!(x1 - x0 < 4.0 * image.width && y1 - y0 < 4.0 * image.height && x0 > -1e6
           && y0 > -1e6 && x1 < 1e6 && y1 < 1e6)) // far off the image (and int-safe)
-        return;
-    const Rect rect = Rect(cvFloor(x0) - margin, cvFloor(y0) - margin,
-                           cvCeil(x1 - x0) + 2 * margin + 2, cvCeil(y1 - y0) + 2 * margin + 2)
+        return false;
+    rect = Rect(cvFloor(x0) - margin, cvFloor(y0) - margin, cvCeil(x1 - x0) + 2 * margin + 2,
+                cvCeil(y1 - y0) + 2 * margin + 2)
         & Rect(0, 0, image.width, image.height);
-    if (rect.area() == 0)
+    return rect.area() > 0;
+}
+
+// Faces begin .. end - 1 into the z-buffer, four at a time on the vector path.
+static void drawFaces(const Vec3i* faces, int begin, int end, const std::vector<Vec3f>& p,
+                      float inside_sign, Mat& zbuf, Mat& face_of, bool vector_path)
+{
+    const Size sz = zbuf.size();
+    int f = begin;
+#if CV_SIMD128
+    if (vector_path)
+    {
+        float area[4];
+        int bx0[4], bx1[4], by0[4], by1[4];
+        for (; f + 4 <= end; f += 4)
+        {
+            int drawn = faceBounds4(faces + f, (const float*)p.data(), inside_sign, sz, area,
+                                    bx0, bx1, by0, by1);
+            for (int k = 0; drawn; ++k, drawn >>= 1)
+                if (drawn & 1)
+                {
+                    const Vec3i& F = faces[f + k];
+                    drawFace(p[F[0]], p[F[1]], p[F[2]], 1.f / area[k], f + k, bx0[k], bx1[k],
+                             by0[k], by1[k], zbuf, face_of, true);
+                }
+        }
+    }
+#endif
+    for (; f < end; ++f)
+    {
+        const Vec3i& F = faces[f];
+        float area;
+        int bx0, bx1, by0, by1;
+        if (faceBounds(p[F[0]], p[F[1]], p[F[2]], inside_sign, sz, area, bx0, bx1, by0, by1))
+            drawFace(p[F[0]], p[F[1]], p[F[2]], 1.f / area, f, bx0, bx1, by0, by1, zbuf, face_of,
+                     vector_path);
+    }
+}
+
+// The nearest face of every pixel (z-buffer and face index); p receives the projected vertices
+// (u, v in the crop, z), from which the colour of the nearest faces only is interpolated
+// afterwards (colourVisibleFaces), so that the faces drawn over do not cost their colours.
+// Faces are drawn in index order (the clusters that face away skipped); a pixel keeps the first
+// of equally near faces.
+static void rasterize(const Mesh& mesh, int winding, const FaceClusters* clusters,
+                      const Matx33d& K, const Matx33d& R, const Vec3d& t, Size image, int margin,
+                      Drawing& d, std::vector<Vec3f>& p)
+{
+    d = Drawing();
+    d.K = K;
+    d.R = R;
+    d.t = t;
+    d.image = image;
+    d.margin = margin;
+    Rect rect;
+    if (!cropOf(mesh, K, R, t, image, margin, rect))
         return;
     d.rect = rect;
     const Size sz = rect.size();
@@ -342,37 +540,25 @@ static void rasterize(const Mesh& mesh, int winding, const Matx33d& K, const Mat
     face_of.create(sz, CV_32S);
     face_of.setTo(Scalar(-1));
     const bool vector_path = useOptimized();
-    const Vec3i* faces = mesh.faces.data();
     const int nf = (int)mesh.faces.size();
-    int f = 0;
-#if CV_SIMD128
-    if (vector_path)
+    if (clusters && winding != 0 && !clusters->begin.empty() && clusters->begin.back() == nf)
     {
-        float area[4];
-        int bx0[4], bx1[4], by0[4], by1[4];
-        for (; f + 4 <= nf; f += 4)
-        {
-            int drawn = faceBounds4(faces + f, (const float*)p.data(), inside_sign, sz, area,
-                                    bx0, bx1, by0, by1);
-            for (int k = 0; drawn; ++k, drawn >>= 1)
-                if (drawn & 1)
-                {
-                    const Vec3i& F = faces[f + k];
-                    drawFace(p[F[0]], p[F[1]], p[F[2]], 1.f / area[k], f + k, bx0[k], bx1[k],
-                             by0[k], by1[k], zbuf, face_of, true);
-                }
-        }
+        // runs of clusters that do not face away from the camera (centre -R^T t)
+        const Vec3d centre = -(R.t() * t);
+        const int nc = (int)clusters->cone.size();
+        int run = 0;
+        for (int k = 0; k <= nc; ++k)
+            if (k == nc || clusters->facesAway(k, centre))
+            {
+                const int end = clusters->begin[k];
+                if (end > run)
+                    drawFaces(mesh.faces.data(), run, end, p, inside_sign, zbuf, face_of,
+                              vector_path);
+                run = k < nc ? clusters->begin[k + 1] : nf;
+            }
     }
-#endif
-    for (; f < nf; ++f)
-    {
-        const Vec3i& F = faces[f];
-        float area;
-        int bx0, bx1, by0, by1;
-        if (faceBounds(p[F[0]], p[F[1]], p[F[2]], inside_sign, sz, area, bx0, bx1, by0, by1))
-            drawFace(p[F[0]], p[F[1]], p[F[2]], 1.f / area, f, bx0, bx1, by0, by1, zbuf, face_of,
-                     vector_path);
-    }
+    else
+        drawFaces(mesh.faces.data(), 0, nf, p, inside_sign, zbuf, face_of, vector_path);
     // mask and depth (mm, rounded as convertTo does; at least 1 on the object, 0 off it)
     d.mask.create(sz, CV_8U);
     d.depth.create(sz, CV_16U);
@@ -392,18 +578,19 @@ static void rasterize(const Mesh& mesh, int winding, const Matx33d& K, const Mat
 }
 
 void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R, const Vec3d& t,
-              Size image, int margin, Drawing& drawing)
+              Size image, int margin, Drawing& drawing, const FaceClusters* clusters)
 {
     std::vector<Vec3f> p;
-    rasterize(mesh, winding, K, R, t, image, margin, drawing, p);
+    rasterize(mesh, winding, clusters, K, R, t, image, margin, drawing, p);
 }
 
 void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R, const Vec3d& t,
-              Size image, int margin, Rect& rect, OutputArray color, Mat& depth, Mat& mask)
+              Size image, int margin, Rect& rect, OutputArray color, Mat& depth, Mat& mask,
+              const FaceClusters* clusters)
 {
     Drawing d;
     std::vector<Vec3f> p;
-    rasterize(mesh, winding, K, R, t, image, margin, d, p);
+    rasterize(mesh, winding, clusters, K, R, t, image, margin, d, p);
     rect = d.rect;
     depth = d.depth;
     mask = d.mask;
@@ -436,7 +623,7 @@ Ptr<Drawing> ObjectDrawer::drawing(const Matx33d& K, const Matx33d& R, const Vec
 Ptr<Drawing> MeshDrawer::drawing(const Matx33d& K, const Matx33d& R, const Vec3d& t) const
 {
     Ptr<Drawing> d = makePtr<Drawing>();
-    drawMesh(mesh_, winding_, K, R, t, image_, kDrawMargin, *d);
+    drawMesh(mesh_, winding_, K, R, t, image_, kDrawMargin, *d, clusters_);
     d->source = source_;
     return d;
 }
@@ -444,7 +631,8 @@ Ptr<Drawing> MeshDrawer::drawing(const Matx33d& K, const Matx33d& R, const Vec3d
 void MeshDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
                       Mat& mask) const
 {
-    drawMesh(mesh_, winding_, K, R, t, image_, kDrawMargin, rect, noArray(), depth, mask);
+    drawMesh(mesh_, winding_, K, R, t, image_, kDrawMargin, rect, noArray(), depth, mask,
+             clusters_);
 }
 
 void RendererDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect,

@@ -36,6 +36,33 @@ closed mesh the nearest surface along any ray is seen from outside, so drawMesh(
 seen from inside. */
 CV_EXPORTS int closedWinding(const Mesh& mesh);
 
+/** A mesh's faces in clusters that face about the same way and lie close together, so that a
+drawing skips a cluster seen from behind without projecting its faces (on a closed mesh about half
+the faces face away; the clusters hold three quarters of those at LM-O's poses). Cluster k is
+faces begin[k] .. begin[k + 1] - 1 of the mesh as clusterFaces() ordered it. */
+struct CV_EXPORTS FaceClusters
+{
+    std::vector<int> begin; //!< first face of each cluster, then the number of faces
+    /** Unit axis of the outward normals and the cosine of their largest angle to it (-1: the
+    cluster is never skipped). */
+    std::vector<Vec4d> cone;
+    std::vector<Vec4d> sphere; //!< centre and radius (mm) of a ball holding the faces
+    /** True when every face of cluster k faces away from a camera at `centre` (model frame):
+    each face's outward normal points away from the camera with some margin, whatever point of
+    the ball the face lies at (its angle to the axis, the axis' to the ball and the ball's own
+    angle sum to less than 90 degrees). */
+    bool facesAway(int k, const Vec3d& centre) const;
+};
+
+/** Orders the faces of a closed mesh (winding: closedWinding(), not 0) by the direction of their
+outward normals (an octahedral grid of 16 x 16 directions), then along a Z-order curve of their
+centres, renumbers the vertices in the order the faces first use them (colours and normals
+follow), and returns clusters of at most 16 consecutive faces of one direction. drawMesh() draws
+the same mask and depth with the faces in any order; only the face it records at a pixel that
+two faces cover at exactly the same depth may change. winding 0: the mesh is left as it is, no
+clusters. */
+CV_EXPORTS FaceClusters clusterFaces(Mesh& mesh, int winding);
+
 /** The crop's margin around the projected bounding box with which the pose stage and the
 verification draw (the refinement's 3 px around the silhouette and its blur's reach, the
 verification's edge distance and region ring): one margin, so that the verification can score
@@ -71,7 +98,8 @@ struct CV_EXPORTS Drawing
 
 /** drawMesh() below without colours, with the face seen at each pixel (Drawing::face). */
 CV_EXPORTS void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
-                         const Vec3d& t, Size image, int margin, Drawing& drawing);
+                         const Vec3d& t, Size image, int margin, Drawing& drawing,
+                         const FaceClusters* clusters = 0);
 
 /** A hypothesis drawn for the verification or the pose refinements: the mesh at (R, t) seen
 with K, drawn into the crop `rect` around its projection (the projected bounding box widened by
@@ -79,11 +107,13 @@ margin, clipped to the image of size `image`): z-buffered triangles, a pixel is 
 its centre is covered (the Renderer's rule), vertex colours interpolated without shading (hue and
 saturation are what the scores read; grey without colours; not computed for noArray()), depth in
 mm (CV_16U), mask CV_8U. rect is empty when a corner of the bounding box is behind the camera or
-nothing projects into the image. winding: closedWinding() of the mesh (0 draws every face). No
-lock (unlike the OSMesa Renderer): the hypotheses are drawn in parallel. */
+nothing projects into the image. winding: closedWinding() of the mesh (0 draws every face).
+clusters: clusterFaces() of the mesh, whose clusters seen from behind are skipped whole (the
+same image as without them), or 0. No lock (unlike the OSMesa Renderer): the hypotheses are
+drawn in parallel. */
 CV_EXPORTS void drawMesh(const Mesh& mesh, int winding, const Matx33d& K, const Matx33d& R,
                          const Vec3d& t, Size image, int margin, Rect& rect, OutputArray color,
-                         Mat& depth, Mat& mask);
+                         Mat& depth, Mat& mask, const FaceClusters* clusters = 0);
 
 /** How the pose refinements and the depth check see the object at a pose: its depth (CV_16U,
 mm, 0 off the object) and mask (CV_8U) in the crop `rect` of the scene image (empty when nothing
@@ -102,13 +132,14 @@ public:
 };
 
 /** drawMesh() of a mesh (e.g. coarseMesh()) with its closedWinding(): no lock, so the
-hypotheses of a frame refine in parallel. The mesh must outlive the drawer. `source` names the
-mesh in the drawings (Drawing::source). */
+hypotheses of a frame refine in parallel. The mesh (and its clusters, clusterFaces(), or 0)
+must outlive the drawer. `source` names the mesh in the drawings (Drawing::source). */
 class CV_EXPORTS MeshDrawer : public ObjectDrawer
 {
 public:
-    MeshDrawer(const Mesh& mesh, int winding, Size image, uint64 source = 0)
-        : mesh_(mesh), winding_(winding), image_(image), source_(source)
+    MeshDrawer(const Mesh& mesh, int winding, Size image, uint64 source = 0,
+               const FaceClusters* clusters = 0)
+        : mesh_(mesh), winding_(winding), image_(image), source_(source), clusters_(clusters)
     {
     }
     Size imageSize() const CV_OVERRIDE { return image_; }
@@ -121,6 +152,7 @@ private:
     const int winding_;
     const Size image_;
     const uint64 source_;
+    const FaceClusters* clusters_;
 };
 
 /** The OSMesa Renderer's drawing of mesh `handle`: the whole image (the public refinePose(),

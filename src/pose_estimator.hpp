@@ -25,13 +25,15 @@ PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids
                       const TemplateStore& store);
 
 /** A class's mesh as the pose stage and the verification draw it: coarseMesh() (vertices
-clustered on a grid of drawingCell(diameter) mm), its closedWinding(), the full mesh's diameter (mm)
-and each face's colour in HSV (faceColours(), for the verification's colour score). */
+clustered on a grid of drawingCell(diameter) mm) with its faces in clusterFaces()' order, its
+closedWinding() and face clusters, the full mesh's diameter (mm) and each face's colour in HSV
+(faceColours(), for the verification's colour score). */
 struct DrawnMesh
 {
     uint64 id; //!< unique over the process (a mesh set again gets a new one): Drawing::source
     Mesh mesh;
     int winding;
+    FaceClusters clusters;
     double diameter;
     Mat face_hsv; //!< CV_8UC3, one row per face
 };

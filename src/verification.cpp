@@ -476,7 +476,8 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
             const Drawing* d = m.drawing.get();
             if (!d || !d->isOf(mesh.id, K, m.R, m.t, color.size(), margin))
             {
-                drawMesh(mesh.mesh, mesh.winding, K, m.R, m.t, color.size(), margin, own);
+                drawMesh(mesh.mesh, mesh.winding, K, m.R, m.t, color.size(), margin, own,
+                         &mesh.clusters);
                 d = &own;
             }
             Rendered r;

@@ -9,6 +9,8 @@
 #include "../src/verification.hpp"
 #include "../src/edge_gradient.hpp"
 
+#include <map>
+
 namespace opencv_test { namespace {
 
 /** A rendered scene over a real LM-O frame: the ape, partly covered by a grey box, and a decoy,
@@ -544,6 +546,130 @@ TEST(Forestmod_Verification, drawing_skips_the_inside_of_closed_meshes)
         // skipping the other side draws the far side of the object: farther on the mean
         drawMesh(coarse, -1, K, views[i].R, views[i].t, image, 7, r3, c3, d3, m3);
         EXPECT_GT(mean(d3, m3 & m0)[0], mean(d0, m3 & m0)[0] + 5) << i;
+    }
+}
+
+// A face's corners as a canonical tuple (the corner of smallest coordinates first, the winding
+// kept), so that two orderings of the same triangles can be compared.
+static std::vector<float> faceCorners(const Mesh& mesh, size_t f)
+{
+    std::vector<Point3f> c(3);
+    for (int k = 0; k < 3; ++k)
+        c[k] = mesh.vertices[mesh.faces[f][k]];
+    const auto less = [](const Point3f& a, const Point3f& b) {
+        return a.x < b.x || (a.x == b.x && (a.y < b.y || (a.y == b.y && a.z < b.z)));
+    };
+    std::rotate(c.begin(), std::min_element(c.begin(), c.end(), less), c.end());
+    std::vector<float> out;
+    for (int k = 0; k < 3; ++k)
+        out.insert(out.end(), { c[k].x, c[k].y, c[k].z });
+    return out;
+}
+
+// n . (a - centre) for face f's outward normal n and first corner a: > 0 when the face faces away
+// from a camera at centre.
+static double facing(const Mesh& mesh, int f, int winding, const Vec3d& centre)
+{
+    const Vec3i& F = mesh.faces[f];
+    const Point3f &p = mesh.vertices[F[0]], &q = mesh.vertices[F[1]], &r = mesh.vertices[F[2]];
+    const Vec3d a(p.x, p.y, p.z), b(q.x, q.y, q.z), c(r.x, r.y, r.z);
+    return (b - a).cross(c - a).dot(a - centre) * winding;
+}
+
+// clusterFaces() reorders the faces (the same triangles, colours following their vertices), and
+// a drawing that skips the clusters facing away draws what drawing every face draws: the same
+// face, depth and mask at every pixel as without the clusters, the same depth and mask as the
+// mesh in its first order. Every face of a skipped cluster faces away (exact test in double),
+// and the clusters skip most of the faces that do.
+TEST(Forestmod_Verification, face_clusters_skip_only_faces_that_face_away)
+{
+    namespace fd = cv::forestmod::detail;
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    const Mesh coarse = fd::coarseMesh(ape, fd::drawingCell(ape.diameter()));
+    Mesh open = coarse;
+    open.faces.pop_back();
+    const fd::FaceClusters none = fd::clusterFaces(open, 0);
+    EXPECT_TRUE(none.begin.empty());
+    EXPECT_TRUE(open.faces == std::vector<Vec3i>(coarse.faces.begin(), coarse.faces.end() - 1));
+    Mesh reversed = coarse;
+    for (size_t f = 0; f < reversed.faces.size(); ++f)
+        std::swap(reversed.faces[f][1], reversed.faces[f][2]);
+    const Matx33d K = lmoIntrinsics();
+    const Size image(640, 480);
+    for (int winding = 1; winding >= -1; winding -= 2)
+    {
+        const Mesh& first = winding > 0 ? coarse : reversed;
+        Mesh sorted = first;
+        const fd::FaceClusters clusters = fd::clusterFaces(sorted, winding);
+        const size_t nf = first.faces.size();
+        ASSERT_EQ(sorted.faces.size(), nf);
+        ASSERT_EQ(sorted.vertices.size(), first.vertices.size());
+        ASSERT_EQ(sorted.colors.size(), first.colors.size());
+        std::vector<std::vector<float> > a, b;
+        for (size_t f = 0; f < nf; ++f)
+        {
+            a.push_back(faceCorners(first, f));
+            b.push_back(faceCorners(sorted, f));
+        }
+        std::sort(a.begin(), a.end());
+        std::sort(b.begin(), b.end());
+        EXPECT_TRUE(a == b) << winding;
+        const auto key = [](const Point3f& v) { return std::vector<float>{ v.x, v.y, v.z }; };
+        std::map<std::vector<float>, Vec3b> colour_at; // a vertex's colour moves with it
+        for (size_t v = 0; v < first.vertices.size(); ++v)
+            colour_at[key(first.vertices[v])] = first.colors[v];
+        for (size_t v = 0; v < sorted.vertices.size(); ++v)
+            ASSERT_EQ(colour_at[key(sorted.vertices[v])], sorted.colors[v]) << v;
+        ASSERT_EQ(clusters.begin.front(), 0);
+        ASSERT_EQ(clusters.begin.back(), (int)nf);
+        ASSERT_EQ(clusters.cone.size() + 1, clusters.begin.size());
+        for (size_t k = 0; k + 1 < clusters.begin.size(); ++k)
+            ASSERT_LE(clusters.begin[k + 1] - clusters.begin[k], 16) << k;
+
+        ViewSampler::Params sp;
+        sp.level = 1;
+        sp.radii = std::vector<double>{250.0, 700.0, 1400.0};
+        const std::vector<ViewPose> views = ViewSampler(sp).poses(
+            Point3d(ape.center().x, ape.center().y, ape.center().z));
+        double skipped = 0, away = 0;
+        int compared = 0;
+        for (size_t i = 0; i < views.size(); i += 3)
+        {
+            Vec3d t = views[i].t;
+            if (i % 2) // moved towards a corner: cut by the image border
+                t += Vec3d(0.45 * t[2] * image.width / K(0, 0),
+                           0.4 * t[2] * image.height / K(1, 1), 0);
+            const Matx33d& R = views[i].R;
+            const Vec3d centre = -(R.t() * t);
+            for (size_t k = 0; k + 1 < clusters.begin.size(); ++k)
+            {
+                if (!clusters.facesAway((int)k, centre))
+                    continue;
+                for (int f = clusters.begin[k]; f < clusters.begin[k + 1]; ++f)
+                    ASSERT_GT(facing(sorted, f, winding, centre), 0) << i << " " << f;
+                skipped += clusters.begin[k + 1] - clusters.begin[k];
+            }
+            for (size_t f = 0; f < nf; ++f)
+                away += facing(sorted, (int)f, winding, centre) > 0;
+            fd::Drawing d[3];
+            fd::drawMesh(sorted, winding, K, R, t, image, 8, d[0], &clusters);
+            fd::drawMesh(sorted, winding, K, R, t, image, 8, d[1]);
+            fd::drawMesh(first, winding, K, R, t, image, 8, d[2]);
+            ASSERT_GT(countNonZero(d[0].mask), 100) << i;
+            EXPECT_EQ(d[0].rect, d[1].rect) << i;
+            EXPECT_EQ(d[0].rect, d[2].rect) << i;
+            EXPECT_EQ(cvtest::norm(d[0].face, d[1].face, NORM_INF), 0) << i << " " << winding;
+            for (int j = 1; j <= 2; ++j)
+            {
+                EXPECT_EQ(cvtest::norm(d[0].mask, d[j].mask, NORM_INF), 0) << i << " " << j;
+                EXPECT_EQ(cvtest::norm(d[0].depth, d[j].depth, NORM_INF), 0) << i << " " << j;
+            }
+            ++compared;
+        }
+        EXPECT_GE(compared, 20);
+        // about half the faces face away; the clusters hold most of them
+        EXPECT_GT(away, 0.45 * nf * compared);
+        EXPECT_GT(skipped, 0.6 * away) << skipped / away;
     }
 }
 
