@@ -224,42 +224,43 @@ FaceClusters clusterFaces(Mesh& mesh, int winding)
                             std::max(hi3[2], (double)v.z));
             }
         }
+        FaceClusters::Bound c;
         const double len = cv::norm(axis);
-        double cos_half = thin || !(len > 0) ? -1 : 1;
-        if (cos_half > 0)
+        c.cos_half = thin || !(len > 0) ? -1 : 1;
+        if (c.cos_half > 0)
         {
-            axis /= len;
+            c.axis = axis / len;
             for (size_t j = i; j < e; ++j)
-                cos_half = std::min(cos_half, normal[order[j]].dot(axis));
+                c.cos_half = std::min(c.cos_half, normal[order[j]].dot(c.axis));
         }
-        const Vec3d centre = (lo3 + hi3) * 0.5;
+        c.sin_half = std::sqrt(std::max(0.0, 1 - c.cos_half * c.cos_half));
+        c.centre = (lo3 + hi3) * 0.5;
+        c.radius = cv::norm(hi3 - lo3) * 0.5;
         clusters.begin.push_back((int)i);
-        clusters.cone.push_back(Vec4d(axis[0], axis[1], axis[2], cos_half));
-        clusters.sphere.push_back(Vec4d(centre[0], centre[1], centre[2],
-                                        cv::norm(hi3 - lo3) * 0.5));
+        clusters.bound.push_back(c);
         i = e;
     }
     clusters.begin.push_back((int)nf);
+    clusters.box_min = lo;
+    clusters.box_max = hi;
     reorderMesh(mesh, order);
     return clusters;
 }
 
 bool FaceClusters::facesAway(int k, const Vec3d& centre) const
 {
-    const Vec4d& c = cone[k];
-    const Vec4d& s = sphere[k];
-    if (!(c[3] > 0))
+    const Bound& c = bound[k];
+    if (!(c.cos_half > 0))
         return false;
-    const Vec3d v(s[0] - centre[0], s[1] - centre[1], s[2] - centre[2]);
-    const double dist = std::sqrt(v.dot(v));
-    if (!(dist > s[3]))
+    const Vec3d v = c.centre - centre;
+    const double dist2 = v.dot(v);
+    if (!(dist2 > c.radius * c.radius))
         return false;
-    const double cos_phi = (c[0] * v[0] + c[1] * v[1] + c[2] * v[2]) / dist;
+    const double dist = std::sqrt(dist2), cos_phi = c.axis.dot(v) / dist;
     const double sin_phi = std::sqrt(std::max(0.0, 1 - cos_phi * cos_phi));
-    const double sin_half = std::sqrt(std::max(0.0, 1 - c[3] * c[3]));
     // cos(phi + half angle) > sin(the ball's angle), with a margin of 1e-3 for faces nearly
     // edge-on, whose projected area's sign the float projection decides
-    return cos_phi * c[3] - sin_phi * sin_half > s[3] / dist + 1e-3;
+    return cos_phi * c.cos_half - sin_phi * c.sin_half > c.radius / dist + 1e-3;
 }
 
 // twice the signed area of a projected face (u, v, z corners)
@@ -435,13 +436,12 @@ static inline int faceBounds4(const Vec3i* faces, const float* p, float inside_s
 }
 #endif
 
-// The crop around the projection of the mesh's bounding box, widened by margin and clipped to the
-// image; false when a corner is behind the camera, the box lies far off the image or the crop is
+// The crop around the projection of the mesh's bounding box (lo, hi), widened by margin and
+// clipped to the image; false when a corner is behind the camera, the box lies far off the image or the crop is
 // empty.
-static bool cropOf(const Mesh& mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t,
-                   Size image, int margin, Rect& rect)
+static bool cropOf(const Point3f& lo, const Point3f& hi, const Matx33d& K, const Matx33d& R,
+                   const Vec3d& t, Size image, int margin, Rect& rect)
 {
-    const Point3f lo = mesh.bboxMin(), hi = mesh.bboxMax();
     double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
     for (int c = 0; c < 8; ++c)
     {
@@ -515,8 +515,12 @@ static void rasterize(const Mesh& mesh, int winding, const FaceClusters* cluster
     d.t = t;
     d.image = image;
     d.margin = margin;
+    const int nf = (int)mesh.faces.size();
+    if (clusters && (winding == 0 || clusters->begin.empty() || clusters->begin.back() != nf))
+        clusters = 0; // not this mesh's
     Rect rect;
-    if (!cropOf(mesh, K, R, t, image, margin, rect))
+    if (!cropOf(clusters ? clusters->box_min : mesh.bboxMin(),
+                clusters ? clusters->box_max : mesh.bboxMax(), K, R, t, image, margin, rect))
         return;
     d.rect = rect;
     const Size sz = rect.size();
@@ -540,12 +544,11 @@ static void rasterize(const Mesh& mesh, int winding, const FaceClusters* cluster
     face_of.create(sz, CV_32S);
     face_of.setTo(Scalar(-1));
     const bool vector_path = useOptimized();
-    const int nf = (int)mesh.faces.size();
-    if (clusters && winding != 0 && !clusters->begin.empty() && clusters->begin.back() == nf)
+    if (clusters)
     {
         // runs of clusters that do not face away from the camera (centre -R^T t)
         const Vec3d centre = -(R.t() * t);
-        const int nc = (int)clusters->cone.size();
+        const int nc = (int)clusters->bound.size();
         int run = 0;
         for (int k = 0; k <= nc; ++k)
             if (k == nc || clusters->facesAway(k, centre))

@@ -42,11 +42,18 @@ the faces face away; the clusters hold three quarters of those at LM-O's poses).
 faces begin[k] .. begin[k + 1] - 1 of the mesh as clusterFaces() ordered it. */
 struct CV_EXPORTS FaceClusters
 {
+    /** A cluster's faces seen as one: the cone of their outward normals and a ball holding them. */
+    struct Bound
+    {
+        Vec3d axis; //!< unit mean direction of the outward normals
+        /** Of the largest angle of a normal to the axis (cos_half -1: never skipped). */
+        double cos_half, sin_half;
+        Vec3d centre; //!< of the ball, mm
+        double radius;
+    };
     std::vector<int> begin; //!< first face of each cluster, then the number of faces
-    /** Unit axis of the outward normals and the cosine of their largest angle to it (-1: the
-    cluster is never skipped). */
-    std::vector<Vec4d> cone;
-    std::vector<Vec4d> sphere; //!< centre and radius (mm) of a ball holding the faces
+    std::vector<Bound> bound;
+    Point3f box_min, box_max; //!< the mesh's bounding box (a drawing's crop)
     /** True when every face of cluster k faces away from a camera at `centre` (model frame):
     each face's outward normal points away from the camera with some margin, whatever point of
     the ball the face lies at (its angle to the axis, the axis' to the ball and the ball's own

@@ -622,7 +622,9 @@ TEST(Forestmod_Verification, face_clusters_skip_only_faces_that_face_away)
             ASSERT_EQ(colour_at[key(sorted.vertices[v])], sorted.colors[v]) << v;
         ASSERT_EQ(clusters.begin.front(), 0);
         ASSERT_EQ(clusters.begin.back(), (int)nf);
-        ASSERT_EQ(clusters.cone.size() + 1, clusters.begin.size());
+        ASSERT_EQ(clusters.bound.size() + 1, clusters.begin.size());
+        EXPECT_EQ(clusters.box_min, first.bboxMin());
+        EXPECT_EQ(clusters.box_max, first.bboxMax());
         for (size_t k = 0; k + 1 < clusters.begin.size(); ++k)
             ASSERT_LE(clusters.begin[k + 1] - clusters.begin[k], 16) << k;
 
