@@ -437,8 +437,8 @@ static inline int faceBounds4(const Vec3i* faces, const float* p, float inside_s
 #endif
 
 // The crop around the projection of the mesh's bounding box (lo, hi), widened by margin and
-// clipped to the image; false when a corner is behind the camera, the box lies far off the image or the crop is
-// empty.
+// clipped to the image; false when a corner is behind the camera, the box lies far off the image
+// or the crop is empty.
 static bool cropOf(const Point3f& lo, const Point3f& hi, const Matx33d& K, const Matx33d& R,
                    const Vec3d& t, Size image, int margin, Rect& rect)
 {
