@@ -68,21 +68,26 @@ PERF_TEST_P(Forestmod_Render, renderTemplates_18_views, testing::Values("ape"))
     SANITY_CHECK_NOTHING();
 }
 
-typedef TestBaseWithParam<tuple<std::string, int> > Forestmod_DrawMesh;
+typedef TestBaseWithParam<tuple<std::string, int, bool> > Forestmod_DrawMesh;
 
 // What the detector's pose stage and verification draw for one hypothesis: drawMesh() of the
 // mesh simplified by vertex clustering (divisor 0: the detector's cells, drawingCell(); N > 0:
 // cells of 1 / N of the diameter) into the crop around it, depth and the face of each pixel, at
-// the default sampler's poses (650-1150 mm) in a 640x480 image.
+// the default sampler's poses (650-1150 mm) in a 640x480 image; with clusters (the detector's
+// way, clusterFaces(): the clusters facing away skipped) or every face tested.
 PERF_TEST_P(Forestmod_DrawMesh, coarse_mesh_640x480,
-            testing::Combine(testing::Values("ape", "driller"), testing::Values(0, 32)))
+            testing::Combine(testing::Values("ape", "driller"), testing::Values(0, 32),
+                             testing::Bool()))
 {
     namespace fd = cv::forestmod::detail;
     const Mesh mesh = Mesh::load(meshPath(get<0>(GetParam())));
     const int divisor = get<1>(GetParam());
-    const Mesh coarse = fd::coarseMesh(mesh, divisor > 0 ? mesh.diameter() / divisor
-                                                         : fd::drawingCell(mesh.diameter()));
+    Mesh coarse = fd::coarseMesh(mesh, divisor > 0 ? mesh.diameter() / divisor
+                                                   : fd::drawingCell(mesh.diameter()));
     const int winding = fd::closedWinding(coarse);
+    const bool clustered = get<2>(GetParam());
+    const fd::FaceClusters clusters = clustered ? fd::clusterFaces(coarse, winding)
+                                                : fd::FaceClusters();
     const Matx33d K = lmoIntrinsics();
     const Point3f c = mesh.center();
     const std::vector<ViewPose> poses = ViewSampler().poses(Point3d(c.x, c.y, c.z));
@@ -92,7 +97,8 @@ PERF_TEST_P(Forestmod_DrawMesh, coarse_mesh_640x480,
     {
         const ViewPose& p = poses[pose_index];
         pose_index = (pose_index + 97) % poses.size();
-        fd::drawMesh(coarse, winding, K, p.R, p.t, Size(640, 480), 8, d);
+        fd::drawMesh(coarse, winding, K, p.R, p.t, Size(640, 480), 8, d,
+                     clustered ? &clusters : 0);
     }
     ASSERT_GT(countNonZero(d.mask), 0);
     ASSERT_EQ(CV_32SC1, d.face.type());
