@@ -637,16 +637,22 @@ void EdgeFit::levenbergMarquardt(const std::vector<EdgePoint>& pts, double dmax,
             Rodrigues(Vec3d(delta[0], delta[1], delta[2]), dR);
             const Matx33d R2 = dR * res.R;
             const Vec3d t2 = dR * (res.t - c) + c + Vec3d(delta[3], delta[4], delta[5]);
-            const double cost2 = edgeCost(pts, maps, dmax, K, R2, t2, params.huber, c, 0, 0, 0, 0,
-                                          0);
+            // the rotation centre moves with the object; the normal equations at the step's pose
+            // are summed with its cost, ready for the next iteration when the step is accepted
+            const Vec3d c2 = c + Vec3d(delta[3], delta[4], delta[5]);
+            Matx66d A2;
+            Vec6d b2;
+            const double cost2 = edgeCost(pts, maps, dmax, K, R2, t2, params.huber, c2, &A2, &b2,
+                                          0, 0, 0);
             if (cost2 < cost)
             {
-                c += Vec3d(delta[3], delta[4], delta[5]); // the rotation centre moves with the object
+                c = c2;
                 res.R = R2;
                 res.t = t2;
                 lambda = std::max(lambda * 0.3, 1e-7);
-                cost = edgeCost(pts, maps, dmax, K, res.R, res.t, params.huber, c, &A, &b, 0, 0,
-                                0);
+                cost = cost2;
+                A = A2;
+                b = b2;
                 accepted = true;
                 // converged: the step lowered the cost by less than 0.1 %
                 converged = before - cost < 1e-3 * before;
