@@ -412,15 +412,37 @@ static double edgeCost(const std::vector<EdgePoint>& pts, const EdgeMaps& maps, 
         *JtJ = Matx66d::zeros();
         *Jtr = Vec6d::all(0);
     }
-    for (size_t i = 0; i < pts.size(); ++i)
+    // The points in the camera's frame and their projections first, the map rows that their
+    // samples read fetched meanwhile: one point after another, the samples missed the cache.
+    const size_t n = pts.size();
+    AutoBuffer<double, 5 * 512> projected(5 * n);
+    for (size_t i = 0; i < n; ++i)
     {
         const Vec3d X = R * Vec3d(pts[i].model.x, pts[i].model.y, pts[i].model.z) + t;
+        double* q = projected.data() + 5 * i;
+        q[0] = X[0];
+        q[1] = X[1];
+        q[2] = X[2];
+        if (!(X[2] > 1e-6))
+            continue;
+        q[3] = fx * X[0] / X[2] + s * X[1] / X[2] + cx;
+        q[4] = fy * X[1] / X[2] + cy;
+        const Mat& m = maps.distance[pts[i].bin];
+        if (q[3] >= 1 && q[4] >= 1 && q[3] < m.cols - 2 && q[4] < m.rows - 2)
+        {
+            detail::prefetchLine(m.ptr<float>((int)q[4]) + (int)q[3]);
+            detail::prefetchLine(m.ptr<float>((int)q[4] + 1) + (int)q[3]);
+        }
+    }
+    for (size_t i = 0; i < n; ++i)
+    {
+        const double* P = projected.data() + 5 * i;
+        const Vec3d X(P[0], P[1], P[2]);
         double r = dmax, gu = 0, gv = 0;
         bool inside = X[2] > 1e-6;
         if (inside)
         {
-            const double u = fx * X[0] / X[2] + s * X[1] / X[2] + cx, v = fy * X[1] / X[2] + cy;
-            inside = sampleMap(maps.distance[pts[i].bin], u, v, r, gu, gv);
+            inside = sampleMap(maps.distance[pts[i].bin], P[3], P[4], r, gu, gv);
             if (!inside || r >= dmax)
             {
                 r = dmax;
