@@ -539,10 +539,15 @@ static void rasterize(const Mesh& mesh, int winding, const FaceClusters* cluster
     // The signed area of a projected face has the sign of n . a (n its normal, a a corner, in
     // the camera's frame): negative when an outward normal faces the camera.
     const float inside_sign = (float)winding;
-    Mat zbuf(sz, CV_32F, Scalar(FLT_MAX));
+    // the z-buffer is the thread's own, reused from drawing to drawing (the face index goes
+    // with the drawing); both filled in one pass over their continuous buffers
+    static thread_local std::vector<float> zbuf_data;
+    zbuf_data.resize((size_t)sz.area());
+    Mat zbuf(sz, CV_32F, zbuf_data.data());
+    std::fill(zbuf_data.begin(), zbuf_data.end(), FLT_MAX);
     Mat& face_of = d.face;
     face_of.create(sz, CV_32S);
-    face_of.setTo(Scalar(-1));
+    std::fill_n(face_of.ptr<int>(), (size_t)sz.area(), -1);
     const bool vector_path = useOptimized();
     if (clusters)
     {

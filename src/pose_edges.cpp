@@ -271,10 +271,22 @@ void computeEdgeMaps(InputArray _image, EdgeMaps& maps, const EdgeRefineParams& 
     parallel_for_(Range(0, B), [&](const Range& r) {
         for (int b = r.start; b < r.end; ++b)
         {
-            maps.distance[b].create(img.size(), CV_32FC1);
-            if (roi != full) // outside the roi; inside, truncatedDistance writes every pixel
-                maps.distance[b].setTo(Scalar(params.max_distance));
-            Mat inside = maps.distance[b](roi);
+            Mat& d = maps.distance[b];
+            d.create(img.size(), CV_32FC1);
+            // max_distance outside the roi; inside, truncatedDistance writes every pixel
+            const float far_away = (float)params.max_distance;
+            for (int y = 0; y < d.rows; ++y)
+            {
+                float* row = d.ptr<float>(y);
+                if (y < roi.y || y >= roi.br().y)
+                    std::fill(row, row + d.cols, far_away);
+                else
+                {
+                    std::fill(row, row + roi.x, far_away);
+                    std::fill(row + roi.br().x, row + d.cols, far_away);
+                }
+            }
+            Mat inside = d(roi);
             detail::truncatedDistance(near_bin[b], params.max_distance, inside);
         }
     });
