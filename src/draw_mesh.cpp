@@ -142,32 +142,32 @@ static int zOrder(int x, int y, int z)
 static void reorderMesh(Mesh& mesh, const std::vector<int>& order)
 {
     const size_t nv = mesh.vertices.size();
-    std::vector<int> newIndex(nv, -1), oldIndex;
-    oldIndex.reserve(nv);
+    std::vector<int> new_index(nv, -1), old_index;
+    old_index.reserve(nv);
     std::vector<Vec3i> faces(order.size());
     for (size_t i = 0; i < order.size(); ++i)
         for (int k = 0; k < 3; ++k)
         {
-            int& n = newIndex[mesh.faces[order[i]][k]];
+            int& n = new_index[mesh.faces[order[i]][k]];
             if (n < 0)
             {
-                n = (int)oldIndex.size();
-                oldIndex.push_back(mesh.faces[order[i]][k]);
+                n = (int)old_index.size();
+                old_index.push_back(mesh.faces[order[i]][k]);
             }
             faces[i][k] = n;
         }
     for (size_t v = 0; v < nv; ++v) // vertices of no face keep their place after the others
-        if (newIndex[v] < 0)
-            oldIndex.push_back((int)v);
+        if (new_index[v] < 0)
+            old_index.push_back((int)v);
     Mesh out;
     out.faces.swap(faces);
     for (size_t i = 0; i < nv; ++i)
     {
-        out.vertices.push_back(mesh.vertices[oldIndex[i]]);
+        out.vertices.push_back(mesh.vertices[old_index[i]]);
         if (mesh.normals.size() == nv)
-            out.normals.push_back(mesh.normals[oldIndex[i]]);
+            out.normals.push_back(mesh.normals[old_index[i]]);
         if (mesh.colors.size() == nv)
-            out.colors.push_back(mesh.colors[oldIndex[i]]);
+            out.colors.push_back(mesh.colors[old_index[i]]);
     }
     mesh = out;
 }

@@ -425,7 +425,8 @@ static double edgeCost(const std::vector<EdgePoint>& pts, const EdgeMaps& maps, 
         *Jtr = Vec6d::all(0);
     }
     // The points in the camera's frame and their projections first, the map rows that their
-    // samples read fetched meanwhile: one point after another, the samples missed the cache.
+    // samples read fetched meanwhile (sampled one point after another, they missed the cache),
+    // then the samples and sums in the points' order.
     const size_t n = pts.size();
     AutoBuffer<double, 5 * 512> projected(5 * n);
     for (size_t i = 0; i < n; ++i)
