@@ -121,9 +121,9 @@ private:
 };
 
 /** The median of ICP's robust scales: the element of rank v.size() / 2, as std::nth_element
-finds it (v is reordered). Non-negative, finite values are counted in 256 bins of [0, max v] and
-nth_element runs within the bin that holds the rank; other values (or fewer than 64) go to
-nth_element over all of them. */
+finds it. Non-negative, finite values are counted in 256 bins of [0, max v] and nth_element runs
+within the bin that holds the rank (v is left as it is); other values (or fewer than 64) go to
+nth_element over all of them (v is reordered). */
 CV_EXPORTS double medianOfNonNegative(std::vector<double>& v);
 
 /** refineICP() against normals made for the same depth image, intrinsics and parameters. */
