@@ -436,11 +436,8 @@ static inline int faceBounds4(const Vec3i* faces, const float* p, float inside_s
 }
 #endif
 
-// The crop around the projection of the mesh's bounding box (lo, hi), widened by margin and
-// clipped to the image; false when a corner is behind the camera, the box lies far off the image
-// or the crop is empty.
-static bool cropOf(const Point3f& lo, const Point3f& hi, const Matx33d& K, const Matx33d& R,
-                   const Vec3d& t, Size image, int margin, Rect& rect)
+bool projectedBox(const Point3f& lo, const Point3f& hi, const Matx33d& K, const Matx33d& R,
+                  const Vec3d& t, Rect2d& box)
 {
     double x0 = 1e30, y0 = 1e30, x1 = -1e30, y1 = -1e30;
     for (int c = 0; c < 8; ++c)
@@ -455,6 +452,20 @@ static bool cropOf(const Point3f& lo, const Point3f& hi, const Matx33d& K, const
         x1 = std::max(x1, q[0] / q[2]);
         y1 = std::max(y1, q[1] / q[2]);
     }
+    box = Rect2d(x0, y0, x1 - x0, y1 - y0);
+    return true;
+}
+
+// The crop around the projection of the mesh's bounding box (lo, hi), widened by margin and
+// clipped to the image; false when a corner is behind the camera, the box lies far off the image
+// or the crop is empty.
+static bool cropOf(const Point3f& lo, const Point3f& hi, const Matx33d& K, const Matx33d& R,
+                   const Vec3d& t, Size image, int margin, Rect& rect)
+{
+    Rect2d box;
+    if (!projectedBox(lo, hi, K, R, t, box))
+        return false;
+    const double x0 = box.x, y0 = box.y, x1 = box.x + box.width, y1 = box.y + box.height;
     if (!(x1 - x0 < 4.0 * image.width && y1 - y0 < 4.0 * image.height && x0 > -1e6
           && y0 > -1e6 && x1 < 1e6 && y1 < 1e6)) // far off the image (and int-safe)
         return false;
@@ -634,6 +645,15 @@ Ptr<Drawing> MeshDrawer::drawing(const Matx33d& K, const Matx33d& R, const Vec3d
     drawMesh(mesh_, winding_, K, R, t, image_, kDrawMargin, *d, clusters_);
     d->source = source_;
     return d;
+}
+
+bool MeshDrawer::silhouette(const Matx33d& K, const Matx33d& R, const Vec3d& t, int max_points,
+                            std::vector<SilhouettePoint>& pts) const
+{
+    if (!silhouette_ || silhouette_->plane.size() != 4 * mesh_.faces.size())
+        return false; // none, or not this mesh's
+    meshSilhouette(mesh_, *silhouette_, K, R, t, image_, max_points, pts);
+    return true;
 }
 
 void MeshDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,

@@ -9,6 +9,7 @@
 #define OPENCV_FORESTMOD_DRAW_MESH_HPP
 
 #include "opencv2/forestmod/render.hpp"
+#include "silhouette.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -69,6 +70,11 @@ the same mask and depth with the faces in any order; only the face it records at
 two faces cover at exactly the same depth may change. winding 0: the mesh is left as it is, no
 clusters. */
 CV_EXPORTS FaceClusters clusterFaces(Mesh& mesh, int winding);
+
+/** The box of the projections of the eight corners of the box (lo, hi) (model frame, mm) at
+(R, t) seen with K; false when a corner lies less than 1 mm in front of the camera. */
+bool projectedBox(const Point3f& lo, const Point3f& hi, const Matx33d& K, const Matx33d& R,
+                  const Vec3d& t, Rect2d& box);
 
 /** The crop's margin around the projected bounding box with which the pose stage and the
 verification draw (the refinement's 3 px around the silhouette and its blur's reach, the
@@ -136,23 +142,36 @@ public:
     /** draw() into a Drawing that can be kept (rect, depth, mask; what colours it when the
     drawer can). */
     virtual Ptr<Drawing> drawing(const Matx33d& K, const Matx33d& R, const Vec3d& t) const;
+    /** The object's outer silhouette without drawing it (meshSilhouette()), when the drawer
+    can: false when it cannot, and the silhouette is then the drawn mask's boundary. */
+    virtual bool silhouette(const Matx33d& K, const Matx33d& R, const Vec3d& t, int max_points,
+                            std::vector<SilhouettePoint>& pts) const
+    {
+        CV_UNUSED(K), CV_UNUSED(R), CV_UNUSED(t), CV_UNUSED(max_points), CV_UNUSED(pts);
+        return false;
+    }
 };
 
 /** drawMesh() of a mesh (e.g. coarseMesh()) with its closedWinding(): no lock, so the
-hypotheses of a frame refine in parallel. The mesh (and its clusters, clusterFaces(), or 0)
-must outlive the drawer. `source` names the mesh in the drawings (Drawing::source). */
+hypotheses of a frame refine in parallel. The mesh (and its clusters, clusterFaces(), and
+silhouette edges, silhouetteEdges(), or 0) must outlive the drawer. `source` names the mesh in
+the drawings (Drawing::source). */
 class CV_EXPORTS MeshDrawer : public ObjectDrawer
 {
 public:
     MeshDrawer(const Mesh& mesh, int winding, Size image, uint64 source = 0,
-               const FaceClusters* clusters = 0)
-        : mesh_(mesh), winding_(winding), image_(image), source_(source), clusters_(clusters)
+               const FaceClusters* clusters = 0, const SilhouetteEdges* silhouette = 0)
+        : mesh_(mesh), winding_(winding), image_(image), source_(source), clusters_(clusters),
+          silhouette_(silhouette)
     {
     }
     Size imageSize() const CV_OVERRIDE { return image_; }
     void draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
               Mat& mask) const CV_OVERRIDE;
     Ptr<Drawing> drawing(const Matx33d& K, const Matx33d& R, const Vec3d& t) const CV_OVERRIDE;
+    /** meshSilhouette() when the drawer has the mesh's silhouette edges (not empty). */
+    bool silhouette(const Matx33d& K, const Matx33d& R, const Vec3d& t, int max_points,
+                    std::vector<SilhouettePoint>& pts) const CV_OVERRIDE;
 
 private:
     const Mesh& mesh_;
@@ -160,6 +179,7 @@ private:
     const Size image_;
     const uint64 source_;
     const FaceClusters* clusters_;
+    const SilhouetteEdges* silhouette_;
 };
 
 /** The OSMesa Renderer's drawing of mesh `handle`: the whole image (the public refinePose(),

@@ -313,16 +313,31 @@ static inline bool sampleMap(const Mat& m, double u, double v, double& val, doub
     return true;
 }
 
-// model edge points of the object rendered at (R, t): silhouette, and colour edges / depth
-// discontinuities inside it; the drawing kept in *keep when asked
+// model edge points of the object at (R, t): its silhouette (the drawer's own when it has one,
+// else the drawn mask's boundary) and, with inner_edges, the depth discontinuities inside it;
+// *made receives the drawing when one was made, and is released otherwise
 static void extractEdgePoints(const detail::ObjectDrawer& drawer, const Matx33d& K,
                               const Matx33d& R, const Vec3d& t, const EdgeRefineParams& p,
-                              std::vector<EdgePoint>& pts, Ptr<detail::Drawing>* keep = 0)
+                              std::vector<EdgePoint>& pts, Ptr<detail::Drawing>* made = 0)
 {
     pts.clear();
+    if (made)
+        made->release();
+    static thread_local std::vector<detail::SilhouettePoint> outline;
+    if (!p.inner_edges && drawer.silhouette(K, R, t, p.max_points, outline))
+    {
+        pts.resize(outline.size());
+        for (size_t i = 0; i < outline.size(); ++i)
+        {
+            pts[i].model = Point3d(outline[i].model);
+            pts[i].bin = orientationBin(outline[i].normal[0], outline[i].normal[1],
+                                        p.orientations);
+        }
+        return;
+    }
     const Ptr<detail::Drawing> drawn = drawer.drawing(K, R, t);
-    if (keep)
-        *keep = drawn;
+    if (made)
+        *made = drawn;
     const Rect crop = drawn->rect;
     const Mat &depth = drawn->depth, &mask = drawn->mask;
     if (mask.empty())
@@ -715,14 +730,14 @@ double EdgeFit::inlierRatio()
 EdgeRefineResult EdgeFit::finish(Ptr<Drawing>* last)
 {
     run(params_.passes);
-    // quality at the final pose, with its own rendering (kept in *last when asked); drawn
-    // already when inlierRatio() was asked after the last pass
+    // quality at the final pose, with its own points (drawn already when inlierRatio() was asked
+    // after the last pass); *last gets a drawing at that pose
     EdgeRefineResult res = res_;
     std::vector<EdgePoint>& pts = pts_;
     if (!drawn_)
-        extractEdgePoints(*drawer_, K_, res.R, res.t, params_, pts, last);
-    else if (last)
-        *last = drawing_;
+        extractEdgePoints(*drawer_, K_, res.R, res.t, params_, pts, &drawing_);
+    if (last) // the points' drawing, or one made for it (the points came without drawing)
+        *last = drawing_.empty() ? drawer_->drawing(K_, res.R, res.t) : drawing_;
     res.points = (int)pts.size();
     int in = 0;
     edgeCost(pts, *maps_, maps_->max_distance, K_, res.R, res.t, params_.huber, Vec3d(), 0, 0,

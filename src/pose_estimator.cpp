@@ -82,6 +82,7 @@ void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
     d.mesh = coarseMesh(mesh, drawingCell(d.diameter));
     d.winding = closedWinding(d.mesh);
     d.clusters = clusterFaces(d.mesh, d.winding);
+    d.silhouette = silhouetteEdges(d.mesh, d.winding);
     cvtColor(faceColours(d.mesh), d.face_hsv, COLOR_BGR2HSV);
     AutoLock lock(mutex_);
     drawn_[class_id] = d;
@@ -192,7 +193,7 @@ MeshDrawer PoseEstimator::drawerOf(const String& class_id, Size size, double& di
     const DrawnMesh* d = drawnMesh(class_id);
     CV_Assert(d);
     diameter = d->diameter;
-    return MeshDrawer(d->mesh, d->winding, size, d->id, &d->clusters);
+    return MeshDrawer(d->mesh, d->winding, size, d->id, &d->clusters, &d->silhouette);
 }
 
 bool PoseEstimator::refineOneWithDepth(const Mat& depth, const Matx33d& K,

@@ -34,6 +34,7 @@ struct DrawnMesh
     Mesh mesh;
     int winding;
     FaceClusters clusters;
+    SilhouetteEdges silhouette; //!< of the mesh as clusterFaces() ordered it
     double diameter;
     Mat face_hsv; //!< CV_8UC3, one row per face
 };

@@ -76,7 +76,7 @@ private:
     std::vector<EdgePoint> pts_;
     int pass_;
     bool drawn_;            // pts_ drawn at res_'s pose, by inlierRatio()
-    Ptr<Drawing> drawing_;  // that drawing
+    Ptr<Drawing> drawing_;  // their drawing (empty when they came without one)
 };
 
 /** The scene normals of point-to-plane ICP, made where ICP asks for them and kept for the frame.

@@ -57,12 +57,20 @@ struct CoarseApe
         : mr(apeMesh(), Size(640, 480)),
           coarse(cv::forestmod::detail::coarseMesh(
               mr.mesh, cv::forestmod::detail::drawingCell(mr.mesh.diameter()))),
-          drawer(coarse, cv::forestmod::detail::closedWinding(coarse), Size(640, 480))
+          silhouette(cv::forestmod::detail::silhouetteEdges(
+              coarse, cv::forestmod::detail::closedWinding(coarse))),
+          drawer(coarse, cv::forestmod::detail::closedWinding(coarse), Size(640, 480)),
+          outline_drawer(coarse, cv::forestmod::detail::closedWinding(coarse), Size(640, 480), 0,
+                         0, &silhouette)
     {
     }
     MeshRenderer mr;
     const Mesh coarse;
+    const cv::forestmod::detail::SilhouetteEdges silhouette;
+    /** Draws the coarse mesh; the edge alignment's points: the drawn mask's boundary. */
     const cv::forestmod::detail::MeshDrawer drawer;
+    /** The same, the edge alignment's points from the silhouette edges (as the detector's). */
+    const cv::forestmod::detail::MeshDrawer outline_drawer;
 };
 
 /** Kinect-like depth (CV_16UC1 mm) from an ideal float depth (mm):

@@ -98,22 +98,30 @@ TEST(Forestmod_PoseEdges, refinement_with_the_cpu_drawing_of_the_coarse_mesh)
 {
     CoarseApe ape;
     MeshRenderer& mr = ape.mr;
-    RNG rng_renderer(20261122), rng_drawn(20261122);
+    RNG rng_renderer(20261122), rng_drawn(20261122), rng_outline(20261122);
     const int trials = 20;
-    int good_renderer = 0, good_drawn = 0;
+    int good_renderer = 0, good_drawn = 0, good_outline = 0;
     for (int i = 0; i < trials; ++i)
     {
         const EdgeTrial a = runEdgeTrial(mr, rng_renderer, 10.0);
         const EdgeTrial b = runEdgeTrial(mr, rng_drawn, 10.0, EdgeRefineParams(), &ape.drawer);
+        const EdgeTrial c = runEdgeTrial(mr, rng_outline, 10.0, EdgeRefineParams(),
+                                         &ape.outline_drawer);
         ASSERT_EQ(a.before, b.before) << i; // the same start
+        ASSERT_EQ(a.before, c.before) << i;
         EXPECT_GT(b.res.points, 20) << i;
+        EXPECT_GT(c.res.points, 20) << i;
         good_renderer += a.after < 2.0;
         good_drawn += b.after < 2.0;
+        good_outline += c.after < 2.0;
         std::cout << "[ INFO    ] trial " << i << ": " << a.before << " px -> " << a.after
-                  << " (renderer), " << b.after << " (drawn)" << std::endl;
+                  << " (renderer), " << b.after << " (drawn), " << c.after << " (outline)"
+                  << std::endl;
     }
     EXPECT_GE(good_drawn, 16);
     EXPECT_GE(good_drawn, good_renderer - 1);
+    EXPECT_GE(good_outline, 16);
+    EXPECT_GE(good_outline, good_renderer - 1);
 }
 
 // The variant table of doc/pose.md ("Refinement without depth"):

@@ -1,0 +1,317 @@
+// This file is part of OpenCV project.
+// It is subject to the license terms in the LICENSE file found in the top-level directory
+// of this distribution and at http://opencv.org/license.html
+
+// The outline of a closed mesh from its silhouette edges (src/silhouette.cpp), the edge
+// alignment's points: against the drawn mask, on a cube whose silhouette is known exactly, and on
+// meshes and poses it does not take.
+
+#include "test_precomp.hpp"
+#include "../src/draw_mesh.hpp"
+
+namespace opencv_test { namespace {
+
+namespace fd = cv::forestmod::detail;
+
+static Point2d project(const Matx33d& K, const Matx33d& R, const Vec3d& t, const Point3f& p)
+{
+    const Vec3d q = K * (R * Vec3d(p.x, p.y, p.z) + t);
+    return Point2d(q[0] / q[2], q[1] / q[2]);
+}
+
+// The orientation of a direction modulo 180 degrees, in degrees.
+static double orientation(double x, double y)
+{
+    double a = std::atan2(y, x) * 180 / CV_PI;
+    return a < 0 ? a + 180 : a;
+}
+
+static double orientationDifference(double a, double b)
+{
+    const double d = std::fabs(a - b);
+    return std::min(d, 180 - d);
+}
+
+// Every point of meshSilhouette() at the ape's views (some cut by the image border) lies within a
+// pixel of the drawn mask's boundary (its pixels on either side; none where the image border cuts
+// the object), the points cover that boundary, and their normals are the mask's: the outline
+// stands for the drawing's boundary, which the edge alignment used before. The vector and scalar
+// paths give the same points.
+TEST(Forestmod_Silhouette, outline_follows_the_drawn_mask)
+{
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    Mesh coarse = fd::coarseMesh(ape, fd::drawingCell(ape.diameter()));
+    const int winding = fd::closedWinding(coarse);
+    ASSERT_NE(winding, 0);
+    const fd::FaceClusters clusters = fd::clusterFaces(coarse, winding);
+    const fd::SilhouetteEdges edges = fd::silhouetteEdges(coarse, winding);
+    ASSERT_EQ(edges.faces.size(), edges.ends.size());
+    ASSERT_EQ(edges.plane.size(), 4 * coarse.faces.size());
+    const Matx33d K = lmoIntrinsics();
+    const Size image(640, 480);
+    ViewSampler::Params sp;
+    sp.level = 1;
+    sp.radii = std::vector<double>{ 300.0, 700.0, 1400.0 };
+    const std::vector<ViewPose> views = ViewSampler(sp).poses(
+        Point3d(ape.center().x, ape.center().y, ape.center().z));
+    int tested = 0, cut = 0;
+    for (size_t i = 0; i < views.size(); i += 5)
+    {
+        const Matx33d& R = views[i].R;
+        Vec3d t = views[i].t;
+        if (i % 2) // moved towards a corner: cut by the image border
+            t += Vec3d(0.45 * t[2] * image.width / K(0, 0), 0.4 * t[2] * image.height / K(1, 1),
+                       0);
+        fd::Drawing d;
+        fd::drawMesh(coarse, winding, K, R, t, image, fd::kDrawMargin, d, &clusters);
+        if (countNonZero(d.mask) < 50)
+            continue;
+        // the mask's boundary on both sides, in the image; neighbours off the image do not count
+        Mat mask(image, CV_8U, Scalar(0));
+        d.mask.copyTo(mask(d.rect));
+        Mat band(image, CV_8U, Scalar(0)), inner(image, CV_8U, Scalar(0));
+        for (int y = 0; y < image.height; ++y)
+            for (int x = 0; x < image.width; ++x)
+            {
+                const Point n4[4] = { Point(x - 1, y), Point(x + 1, y), Point(x, y - 1),
+                                      Point(x, y + 1) };
+                for (int k = 0; k < 4; ++k)
+                    if (Rect(Point(), image).contains(n4[k])
+                        && mask.at<uchar>(n4[k]) != mask.at<uchar>(y, x))
+                    {
+                        band.at<uchar>(y, x) = 255;
+                        inner.at<uchar>(y, x) = mask.at<uchar>(y, x);
+                    }
+            }
+        cut += countNonZero(mask.row(0)) + countNonZero(mask.col(0))
+            + countNonZero(mask.row(image.height - 1)) + countNonZero(mask.col(image.width - 1))
+            > 0;
+        std::vector<fd::SilhouettePoint> pts, scalar;
+        fd::meshSilhouette(coarse, edges, K, R, t, image, 100000, pts);
+        cv::setUseOptimized(false);
+        fd::meshSilhouette(coarse, edges, K, R, t, image, 100000, scalar);
+        cv::setUseOptimized(true);
+        ASSERT_EQ(pts.size(), scalar.size()) << i;
+        for (size_t k = 0; k < pts.size(); ++k)
+        {
+            ASSERT_EQ(pts[k].model, scalar[k].model) << i << " " << k;
+            ASSERT_EQ(pts[k].normal, scalar[k].normal) << i << " " << k;
+        }
+        const int boundary = countNonZero(inner);
+        ASSERT_GT((int)pts.size(), boundary / 2) << i;
+        ASSERT_LT((int)pts.size(), boundary * 3 / 2) << i;
+        Mat to_band, to_points, covered(image, CV_8U, Scalar(255)), gx, gy, blurred;
+        distanceTransform(band == 0, to_band, DIST_L2, DIST_MASK_PRECISE);
+        GaussianBlur(mask, blurred, Size(5, 5), 0);
+        Sobel(blurred, gx, CV_32F, 1, 0);
+        Sobel(blurred, gy, CV_32F, 0, 1);
+        int agreeing = 0;
+        for (size_t k = 0; k < pts.size(); ++k)
+        {
+            const Point2d p = project(K, R, t, pts[k].model);
+            ASSERT_TRUE(p.x > -1 && p.y > -1 && p.x < image.width && p.y < image.height)
+                << i << " " << k << " " << p;
+            const Point q(std::min(std::max(cvRound(p.x), 0), image.width - 1),
+                          std::min(std::max(cvRound(p.y), 0), image.height - 1));
+            ASSERT_LE(to_band.at<float>(q), 1.0f) << i << " " << k << " " << p;
+            covered.at<uchar>(q) = 0;
+            // the mask's gradient at the nearest boundary pixel
+            double best = 1e9, mask_orientation = 0;
+            for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx)
+                {
+                    const Point r = q + Point(dx, dy);
+                    if (Rect(Point(), image).contains(r) && band.at<uchar>(r)
+                        && dx * dx + dy * dy < best)
+                    {
+                        best = dx * dx + dy * dy;
+                        mask_orientation = orientation(gx.at<float>(r), gy.at<float>(r));
+                    }
+                }
+            agreeing += orientationDifference(orientation(pts[k].normal[0], pts[k].normal[1]),
+                                              mask_orientation) <= 30;
+        }
+        EXPECT_GE(agreeing, 0.9 * pts.size()) << i;
+        distanceTransform(covered, to_points, DIST_L2, DIST_MASK_PRECISE);
+        int near = 0, far = 0; // the boundary but on the image's outermost pixels
+        for (int y = 1; y + 1 < image.height; ++y)
+            for (int x = 1; x + 1 < image.width; ++x)
+                if (inner.at<uchar>(y, x))
+                    (to_points.at<float>(y, x) <= 1.5f ? near : far)++;
+        EXPECT_GE(near, 0.97 * (near + far)) << i;
+        ++tested;
+    }
+    EXPECT_GE(tested, 15);
+    EXPECT_GE(cut, 3);
+}
+
+// A closed cube (side 2 h, centred at the origin, faces turning counter-clockwise seen from
+// outside).
+static Mesh cube(float h)
+{
+    Mesh m;
+    for (int c = 0; c < 8; ++c)
+        m.vertices.push_back(Point3f(c & 1 ? h : -h, c & 2 ? h : -h, c & 4 ? h : -h));
+    const int quads[6][4] = { { 0, 2, 3, 1 }, { 4, 5, 7, 6 }, { 0, 1, 5, 4 },
+                              { 2, 6, 7, 3 }, { 0, 4, 6, 2 }, { 1, 3, 7, 5 } };
+    for (int q = 0; q < 6; ++q)
+    {
+        m.faces.push_back(Vec3i(quads[q][0], quads[q][1], quads[q][2]));
+        m.faces.push_back(Vec3i(quads[q][0], quads[q][2], quads[q][3]));
+    }
+    m.colors.assign(8, Vec3b(128, 128, 128));
+    m.computeNormals();
+    return m;
+}
+
+// A cube seen over a corner, near the camera (its far edges recede): every point lies on one of
+// the cube's edges that the outline is made of (two coordinates at +-h, never on a face's
+// diagonal), projects onto its pixel (through perspective: the point of the edge whose projection
+// is nearest the pixel centre), and its normal is perpendicular to that edge's projection.
+TEST(Forestmod_Silhouette, cube_outline_lies_on_its_edges)
+{
+    const float h = 50.f;
+    const Mesh box = cube(h);
+    const int winding = fd::closedWinding(box);
+    ASSERT_EQ(winding, 1);
+    const fd::SilhouetteEdges edges = fd::silhouetteEdges(box, winding);
+    EXPECT_EQ(edges.faces.size(), 18u); // 12 edges of the cube, 6 diagonals
+    const Matx33d K = lmoIntrinsics();
+    Matx33d R;
+    Rodrigues(Vec3d(0.6, -0.7, 0.2), R);
+    const Vec3d t(20, -10, 260);
+    std::vector<fd::SilhouettePoint> pts;
+    fd::meshSilhouette(box, edges, K, R, t, Size(640, 480), 100000, pts);
+    ASSERT_GT(pts.size(), 200u);
+    int on_edges = 0;
+    for (size_t k = 0; k < pts.size(); ++k)
+    {
+        const Point3f& m = pts[k].model;
+        const int at_h = (std::fabs(std::fabs(m.x) - h) < 1e-3f)
+            + (std::fabs(std::fabs(m.y) - h) < 1e-3f) + (std::fabs(std::fabs(m.z) - h) < 1e-3f);
+        ASSERT_GE(at_h, 2) << k << " " << m; // on an edge of the cube, not a diagonal
+        // the edge through m: the coordinate not at +-h runs along it
+        Point3f dir(0, 0, 0), a = m, b = m;
+        if (std::fabs(std::fabs(m.x) - h) >= 1e-3f)
+            a.x = -h, b.x = h;
+        else if (std::fabs(std::fabs(m.y) - h) >= 1e-3f)
+            a.y = -h, b.y = h;
+        else
+            a.z = -h, b.z = h;
+        const Point2d pa = project(K, R, t, a), pb = project(K, R, t, b);
+        const Point2d p = project(K, R, t, m);
+        const Point2d e = pb - pa;
+        const double along = orientation(e.x, e.y), normal = orientation(pts[k].normal[0],
+                                                                         pts[k].normal[1]);
+        on_edges += orientationDifference(along + 90, normal) <= 25;
+        // m's projection is on the projected edge, and the nearest point of it to a pixel
+        // centre within 1.5 px (the outline's pixel): that pixel lies across the edge from it
+        const Point2d u = e * (1.0 / cv::norm(e));
+        ASSERT_LE(std::fabs((p - pa).cross(u)), 0.01) << k;
+        double across = 1e9;
+        for (int dy = -2; dy <= 2; ++dy)
+            for (int dx = -2; dx <= 2; ++dx)
+            {
+                const Point2d c(cvRound(p.x) + dx, cvRound(p.y) + dy);
+                if (cv::norm(c - p) <= 1.5)
+                    across = std::min(across, std::fabs((c - p).dot(u)));
+            }
+        if (cv::norm(p - pa) > 1e-3 && cv::norm(p - pb) > 1e-3) // not an end
+            ASSERT_LE(across, 0.01) << k;
+    }
+    EXPECT_GE(on_edges, 0.9 * pts.size());
+}
+
+// Two cubes seen face on, the second twice as far and (nearly) twice as large behind the first:
+// their outlines fall on the same pixels, and the points are the nearer cube's.
+TEST(Forestmod_Silhouette, the_nearer_edge_on_a_pixel_gives_the_point)
+{
+    const float h = 40.f;
+    Mesh two = cube(h);
+    const Mesh back = cube(1.99f * h);
+    for (size_t f = 0; f < back.faces.size(); ++f)
+        two.faces.push_back(back.faces[f] + Vec3i::all(8));
+    for (size_t v = 0; v < back.vertices.size(); ++v)
+        two.vertices.push_back(back.vertices[v] + Point3f(0, 0, 300));
+    two.colors.assign(16, Vec3b(128, 128, 128));
+    two.computeNormals();
+    ASSERT_EQ(fd::closedWinding(two), 1);
+    const fd::SilhouetteEdges edges = fd::silhouetteEdges(two, 1);
+    std::vector<fd::SilhouettePoint> pts;
+    fd::meshSilhouette(two, edges, lmoIntrinsics(), Matx33d::eye(), Vec3d(0, 0, 300),
+                       Size(640, 480), 100000, pts);
+    ASSERT_GT(pts.size(), 200u);
+    int front = 0;
+    for (size_t k = 0; k < pts.size(); ++k)
+        front += pts[k].model.z < 0; // the first cube's front face (z = -h)
+    EXPECT_GE(front, 0.95 * pts.size());
+}
+
+// A square of two triangles (an open surface: its edges have one face each) seen from its front:
+// the outline is its border; seen from behind (the faces a closed mesh never shows), none.
+TEST(Forestmod_Silhouette, open_square_outline_is_its_border)
+{
+    Mesh square;
+    const float h = 40.f;
+    square.vertices = { Point3f(-h, -h, 0), Point3f(h, -h, 0), Point3f(h, h, 0),
+                        Point3f(-h, h, 0) };
+    square.faces = { Vec3i(0, 2, 1), Vec3i(0, 3, 2) }; // normal -z: towards a camera at z < 0
+    square.colors.assign(4, Vec3b(128, 128, 128));
+    square.computeNormals();
+    const fd::SilhouetteEdges edges = fd::silhouetteEdges(square, 1);
+    EXPECT_EQ(edges.faces.size(), 5u);
+    const Matx33d K = lmoIntrinsics();
+    std::vector<fd::SilhouettePoint> pts;
+    fd::meshSilhouette(square, edges, K, Matx33d::eye(), Vec3d(0, 0, 400), Size(640, 480),
+                       100000, pts);
+    const double side = 2 * h * K(0, 0) / 400; // px
+    ASSERT_GT(pts.size(), 3.5 * side);
+    ASSERT_LT(pts.size(), 4.5 * side);
+    for (size_t k = 0; k < pts.size(); ++k)
+        ASSERT_NEAR(std::max(std::fabs(pts[k].model.x), std::fabs(pts[k].model.y)), h, 1e-3)
+            << k;
+    Matx33d turned; // seen from behind
+    Rodrigues(Vec3d(0, CV_PI, 0), turned);
+    fd::meshSilhouette(square, edges, K, turned, Vec3d(0, 0, 400), Size(640, 480), 100000, pts);
+    EXPECT_TRUE(pts.empty());
+}
+
+// What meshSilhouette() and the drawers leave alone: an open mesh has no silhouette edges, a
+// drawer without them (or with another mesh's) says it has no silhouette, a pose behind the camera
+// or off the image has no points, max_points spaces them along the outline, and edges of another
+// mesh raise.
+TEST(Forestmod_Silhouette, poses_and_meshes_without_an_outline)
+{
+    const Mesh box = cube(40.f);
+    Mesh open = box;
+    open.faces.pop_back();
+    EXPECT_EQ(fd::closedWinding(open), 0);
+    const fd::SilhouetteEdges none = fd::silhouetteEdges(open, 0);
+    EXPECT_TRUE(none.faces.empty() && none.plane.empty());
+    const fd::SilhouetteEdges edges = fd::silhouetteEdges(box, 1);
+    const Matx33d K = lmoIntrinsics();
+    const Size image(640, 480);
+    std::vector<fd::SilhouettePoint> pts;
+    const fd::MeshDrawer without(box, 1, image), with(box, 1, image, 0, 0, &edges),
+        other(open, 1, image, 0, 0, &edges);
+    EXPECT_FALSE(without.silhouette(K, Matx33d::eye(), Vec3d(0, 0, 500), 400, pts));
+    EXPECT_FALSE(other.silhouette(K, Matx33d::eye(), Vec3d(0, 0, 500), 400, pts));
+    ASSERT_TRUE(with.silhouette(K, Matx33d::eye(), Vec3d(0, 0, 500), 100000, pts));
+    const size_t all = pts.size();
+    ASSERT_GT(all, 100u);
+    ASSERT_TRUE(with.silhouette(K, Matx33d::eye(), Vec3d(0, 0, 500), 50, pts));
+    EXPECT_EQ(pts.size(), 50u);
+    with.silhouette(K, Matx33d::eye(), Vec3d(0, 0, -500), 400, pts); // behind the camera
+    EXPECT_TRUE(pts.empty());
+    with.silhouette(K, Matx33d::eye(), Vec3d(0, 0, 30), 400, pts); // through the camera
+    EXPECT_TRUE(pts.empty());
+    with.silhouette(K, Matx33d::eye(), Vec3d(3000, 0, 500), 400, pts); // off the image
+    EXPECT_TRUE(pts.empty());
+    fd::meshSilhouette(box, edges, K, Matx33d::eye(), Vec3d(0, 0, 500), image, 0, pts);
+    EXPECT_TRUE(pts.empty());
+    EXPECT_THROW(fd::meshSilhouette(open, edges, K, Matx33d::eye(), Vec3d(0, 0, 500), image,
+                                    400, pts),
+                 cv::Exception);
+}
+
+}} // namespace
