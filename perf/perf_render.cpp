@@ -105,4 +105,32 @@ PERF_TEST_P(Forestmod_DrawMesh, coarse_mesh_640x480,
     SANITY_CHECK_NOTHING();
 }
 
+typedef TestBaseWithParam<std::string> Forestmod_MeshSilhouette;
+
+// What the edge alignment takes instead of a drawing for its points: meshSilhouette() of the
+// detector's mesh (drawingCell(), clusterFaces() order) at the default sampler's poses in a
+// 640x480 image, up to 400 points; to be read against Forestmod_DrawMesh (divisor 0, clusters).
+PERF_TEST_P(Forestmod_MeshSilhouette, coarse_mesh_640x480, testing::Values("ape", "driller"))
+{
+    namespace fd = cv::forestmod::detail;
+    const Mesh mesh = Mesh::load(meshPath(GetParam()));
+    Mesh coarse = fd::coarseMesh(mesh, fd::drawingCell(mesh.diameter()));
+    const int winding = fd::closedWinding(coarse);
+    fd::clusterFaces(coarse, winding);
+    const fd::SilhouetteEdges edges = fd::silhouetteEdges(coarse, winding);
+    const Matx33d K = lmoIntrinsics();
+    const Point3f c = mesh.center();
+    const std::vector<ViewPose> poses = ViewSampler().poses(Point3d(c.x, c.y, c.z));
+    std::vector<fd::SilhouettePoint> pts;
+    size_t pose_index = 0;
+    TEST_CYCLE()
+    {
+        const ViewPose& p = poses[pose_index];
+        pose_index = (pose_index + 97) % poses.size();
+        fd::meshSilhouette(coarse, edges, K, p.R, p.t, Size(640, 480), 400, pts);
+    }
+    ASSERT_GT(pts.size(), 50u);
+    SANITY_CHECK_NOTHING();
+}
+
 }} // namespace
