@@ -45,15 +45,17 @@ struct SilhouettePoint
     Vec2f normal;
 };
 
-/** The outer silhouette of `mesh` at (R, t) seen with K, inside an image of size `image`: the
+/** The outer silhouette of `mesh` at (R, t) seen with K, in an image of size `image`: the
 pixels of the silhouette edges' projections (8-connected lines between the rounded projections of
 their ends) that border the region outside all of them, traced along the outline
 (cv::findContours, RETR_EXTERNAL) over the whole projection, the object's parts off the image
-included, then those inside the image but its outermost pixels; up to max_points of them, evenly spaced along the outline.
-Each gives the point of the edge nearest in depth at that pixel whose projection is nearest the
-pixel (pixel centres at integer coordinates, as drawMesh() samples them): the mask boundary of
-drawMesh() to within a pixel, without drawing the faces. `pts` is empty when a corner of the
-bounding box lies behind the camera or the object does not project into the image. */
+included; of those inside the image but its outermost pixels, up to max_points evenly spaced
+along the outline. Each gives the point of the edge nearest in depth at that pixel whose
+projection is nearest the pixel (pixel centres at integer coordinates, as drawMesh() samples
+them), and the outline's normal there (between the pixels two before and two after it): the
+boundary of drawMesh()'s mask to within a pixel, without drawing the faces. `pts` is empty when a
+corner of the bounding box lies behind the camera or the object does not project into the
+image. The edges must be this mesh's (their planes one per face). */
 CV_EXPORTS void meshSilhouette(const Mesh& mesh, const SilhouetteEdges& edges, const Matx33d& K,
                                const Matx33d& R, const Vec3d& t, Size image, int max_points,
                                std::vector<SilhouettePoint>& pts);

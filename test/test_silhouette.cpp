@@ -217,7 +217,9 @@ TEST(Forestmod_Silhouette, cube_outline_lies_on_its_edges)
                     across = std::min(across, std::fabs((c - p).dot(u)));
             }
         if (cv::norm(p - pa) > 1e-3 && cv::norm(p - pb) > 1e-3) // not an end
+        {
             ASSERT_LE(across, 0.01) << k;
+        }
     }
     EXPECT_GE(on_edges, 0.9 * pts.size());
 }
