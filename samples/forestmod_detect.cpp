@@ -42,7 +42,7 @@ static const char* keys
       "verification's order; their scores on the overlay) }"
       "{verify          | true | verify and re-rank the detections (PoseParams::verification) }"
       "{verify_k        | 10   | hypotheses verified per class (VerificationParams::top_k) }"
-      "{rgb_hypotheses  | 16   | without depth: matches a detection's pose is chosen among "
+      "{rgb_hypotheses  | 24   | without depth: matches a detection's pose is chosen among "
       "(PoseParams::rgb_hypotheses) }"
       "{rgb_keep        | 4    | without depth: of those, refined past the first pass "
       "(PoseParams::rgb_keep) }"

@@ -18,7 +18,7 @@ namespace forestmod {
 
 PoseParams::PoseParams()
     : max_per_class(3), icp(true), icp_passes(2), depth_check_tolerance(0.05),
-      min_depth_agreement(0.5), depth_hypotheses(3), rgb_refine(true), rgb_hypotheses(16),
+      min_depth_agreement(0.5), depth_hypotheses(3), rgb_refine(true), rgb_hypotheses(24),
       rgb_keep(4)
 {
 }

@@ -42,7 +42,7 @@ static const char* const keys
       "(PoseParams::rgb_refine, refinePoseEdges), the pose chosen among the overlapping matches "
       "(PoseParams::rgb_hypotheses); false: score the best template's pose as is }"
       "{rgb_hypotheses  |          | without depth: matches refined per location, the best edge "
-      "fit kept (PoseParams::rgb_hypotheses; default: the library's, 16) }"
+      "fit kept (PoseParams::rgb_hypotheses; default: the library's, 24) }"
       "{rgb_keep        |          | without depth: hypotheses of a location refined past the "
       "first pass (PoseParams::rgb_keep; default: the library's, 4) }"
       "{rgb_grid        | false    | the coarse grid search of refinePoseEdges before the "

@@ -266,12 +266,14 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
     detection's, so the ranking is the matcher's). Template matching often ranks a
     wrong view of the object first (front / back); on the 50 real LM-O frames this took the ape's
     poses under 5 px from 4 to 10 of 20 detections (doc/pose.md). 1 = the best match's own
-    template only. Default 16 (with rgb_keep). */
+    template only. Default 24 (with rgb_keep; the edge alignment's points come from the mesh's
+    silhouette edges, cheap enough that 24 cost less than 16 did with drawings, for more
+    projection recall on LM-O's tuning frames: doc/pose.md). */
     CV_PROP_RW int rgb_hypotheses;
     /** Of a detection's rgb_hypotheses matches, those whose edge fit is among the rgb_keep best
     after the refinement's first pass go on to its other passes; the others keep their
     template's pose. On LM-O's tuning frames 4 of 16 gave a higher projection recall than all of
-    8 refined fully, in about the same time (doc/pose.md). >= rgb_hypotheses refines every match
+    8 refined fully, in about the same time, and 4 of 24 more than 6 of 16 (doc/pose.md). >= rgb_hypotheses refines every match
     fully. Default 4. */
     CV_PROP_RW int rgb_keep;
 
