@@ -652,8 +652,7 @@ bool MeshDrawer::silhouette(const Matx33d& K, const Matx33d& R, const Vec3d& t, 
 {
     if (!silhouette_ || silhouette_->plane.size() != 4 * mesh_.faces.size())
         return false; // none, or not this mesh's
-    meshSilhouette(mesh_, *silhouette_, K, R, t, image_, max_points, pts);
-    return true;
+    return meshSilhouette(mesh_, *silhouette_, K, R, t, image_, max_points, pts);
 }
 
 void MeshDrawer::draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,

@@ -169,7 +169,8 @@ public:
     void draw(const Matx33d& K, const Matx33d& R, const Vec3d& t, Rect& rect, Mat& depth,
               Mat& mask) const CV_OVERRIDE;
     Ptr<Drawing> drawing(const Matx33d& K, const Matx33d& R, const Vec3d& t) const CV_OVERRIDE;
-    /** meshSilhouette() when the drawer has the mesh's silhouette edges (not empty). */
+    /** meshSilhouette() when the drawer has the mesh's silhouette edges (not empty) and the
+    object's projection is not too large for it. */
     bool silhouette(const Matx33d& K, const Matx33d& R, const Vec3d& t, int max_points,
                     std::vector<SilhouettePoint>& pts) const CV_OVERRIDE;
 

@@ -224,7 +224,7 @@ static void sampleOutlines(const std::vector<std::vector<Point> >& outlines, con
     }
 }
 
-void meshSilhouette(const Mesh& mesh, const SilhouetteEdges& s, const Matx33d& K,
+bool meshSilhouette(const Mesh& mesh, const SilhouetteEdges& s, const Matx33d& K,
                     const Matx33d& R, const Vec3d& t, Size image, int max_points,
                     std::vector<SilhouettePoint>& pts)
 {
@@ -235,10 +235,11 @@ void meshSilhouette(const Mesh& mesh, const SilhouetteEdges& s, const Matx33d& K
     // whole object
     Rect2d box;
     if (!projectedBox(s.box_min, s.box_max, K, R, t, box))
-        return;
-    if (!(box.width < 4.0 * image.width && box.height < 4.0 * image.height && box.br().x > 0
-          && box.br().y > 0 && box.x < image.width && box.y < image.height))
-        return; // far off the image, or not on it
+        return true;
+    if (!(box.br().x > 0 && box.br().y > 0 && box.x < image.width && box.y < image.height))
+        return true; // not on the image
+    if (!(box.width <= 2.0 * image.width && box.height <= 2.0 * image.height))
+        return false; // its buffer would be larger than the drawing's crop, the image
     const Point origin(cvFloor(box.x) - 2, cvFloor(box.y) - 2);
     EdgeLines lines(Size(cvCeil(box.width) + 6, cvCeil(box.height) + 6));
     // faces that look towards the camera (its centre in the model frame: -R^T t)
@@ -275,6 +276,7 @@ void meshSilhouette(const Mesh& mesh, const SilhouetteEdges& s, const Matx33d& K
     // the image but its outermost pixels (there an edge's distance map has no neighbour)
     sampleOutlines(outlines, Rect(1 - origin.x, 1 - origin.y, image.width - 2, image.height - 2),
                    lines, drawn, mesh, s, max_points, pts);
+    return true;
 }
 
 } // namespace detail

@@ -55,8 +55,10 @@ projection is nearest the pixel (pixel centres at integer coordinates, as drawMe
 them), and the outline's normal there (between the pixels two before and two after it): the
 boundary of drawMesh()'s mask to within a pixel, without drawing the faces. `pts` is empty when a
 corner of the bounding box lies behind the camera or the object does not project into the
-image. The edges must be this mesh's (their planes one per face). */
-CV_EXPORTS void meshSilhouette(const Mesh& mesh, const SilhouetteEdges& edges, const Matx33d& K,
+image. Returns false, without points, when the projected bounding box is more than twice the
+image's width or height (the buffers would be: draw the object instead). The edges must be this
+mesh's (their planes one per face). */
+CV_EXPORTS bool meshSilhouette(const Mesh& mesh, const SilhouetteEdges& edges, const Matx33d& K,
                                const Matx33d& R, const Vec3d& t, Size image, int max_points,
                                std::vector<SilhouettePoint>& pts);
 

@@ -309,6 +309,11 @@ TEST(Forestmod_Silhouette, poses_and_meshes_without_an_outline)
     EXPECT_TRUE(pts.empty());
     with.silhouette(K, Matx33d::eye(), Vec3d(3000, 0, 500), 400, pts); // off the image
     EXPECT_TRUE(pts.empty());
+    // more than twice the image's width (the cube's 80 mm seen from 40 mm): drawn instead
+    EXPECT_FALSE(with.silhouette(K, Matx33d::eye(), Vec3d(0, 0, 80), 400, pts));
+    EXPECT_TRUE(pts.empty());
+    EXPECT_TRUE(with.silhouette(K, Matx33d::eye(), Vec3d(0, 0, 160), 100000, pts));
+    EXPECT_GT(pts.size(), 100u);
     fd::meshSilhouette(box, edges, K, Matx33d::eye(), Vec3d(0, 0, 500), image, 0, pts);
     EXPECT_TRUE(pts.empty());
     EXPECT_THROW(fd::meshSilhouette(open, edges, K, Matx33d::eye(), Vec3d(0, 0, 500), image,
