@@ -274,6 +274,40 @@ static TruthDrift refineFromTruth(Renderer& renderer, int handle, const EdgeMaps
     return d;
 }
 
+// The objects of LM-O frames rendered at their ground truth: each mesh loaded and uploaded once,
+// and a frame's image with every object's rendering pasted over it (exact silhouettes, the real
+// clutter around them).
+struct PastedObjects
+{
+    explicit PastedObjects(const std::string& root_)
+        : root(root_), renderer(Renderer::create(Size(640, 480)))
+    {
+    }
+    /** The frame's image with the renderings pasted; loads the meshes it meets first. */
+    Mat paste(const Frame& frame)
+    {
+        Mat scene = frame.rgb();
+        for (size_t g = 0; g < frame.gt.size(); ++g)
+        {
+            const GroundTruth& gt = frame.gt[g];
+            if (!handle.count(gt.obj_id))
+            {
+                mesh[gt.obj_id] = Mesh::load(cv::format("%s/models/obj_%06d.ply", root.c_str(),
+                                                        gt.obj_id));
+                handle[gt.obj_id] = renderer->addMesh(mesh[gt.obj_id]);
+            }
+            Mat color, mask;
+            renderer->render(handle[gt.obj_id], gt.R, gt.t, frame.K, color, noArray(), mask);
+            color.copyTo(scene, mask);
+        }
+        return scene;
+    }
+    std::string root;
+    Ptr<Renderer> renderer;
+    std::map<int, int> handle;
+    std::map<int, Mesh> mesh;
+};
+
 // Where the refinement's optimum lies on real frames: started at the ground truth of every
 // instance at least half visible in frames 15-49 of LM-O scene 2 (frames no reported table
 // uses), on the real image and on the same image with the objects' renderings pasted at the
@@ -287,40 +321,25 @@ TEST(Forestmod_PoseEdges, DISABLED_refinement_from_the_ground_truth_on_real_fram
     const BopDataset ds = BopDataset::open(root);
     const std::vector<Frame> frames = ds.frames(2);
     ASSERT_GE(frames.size(), (size_t)50);
-    Ptr<Renderer> renderer = Renderer::create(Size(640, 480));
-    std::map<int, int> handle;
-    std::map<int, std::vector<Point3f> > pts;
+    PastedObjects objects(root);
     std::map<int, std::vector<TruthDrift> > real, pasted;
     for (size_t f = 15; f < 50; ++f)
     {
-        const Mat img = frames[f].rgb();
-        Mat scene = img.clone();
-        for (size_t g = 0; g < frames[f].gt.size(); ++g)
-        {
-            const GroundTruth& gt = frames[f].gt[g];
-            if (!handle.count(gt.obj_id))
-            {
-                const Mesh mesh = Mesh::load(cv::format("%s/models/obj_%06d.ply", root.c_str(),
-                                                        gt.obj_id));
-                handle[gt.obj_id] = renderer->addMesh(mesh);
-                pts[gt.obj_id] = mesh.vertices;
-            }
-            Mat color, mask;
-            renderer->render(handle[gt.obj_id], gt.R, gt.t, frames[f].K, color, noArray(), mask);
-            color.copyTo(scene, mask);
-        }
+        const Mat scene = objects.paste(frames[f]);
         EdgeMaps img_maps, scene_maps; // once per frame, for all its instances
-        computeEdgeMaps(img, img_maps);
+        computeEdgeMaps(frames[f].rgb(), img_maps);
         computeEdgeMaps(scene, scene_maps);
         for (size_t g = 0; g < frames[f].gt.size(); ++g)
         {
             const GroundTruth& gt = frames[f].gt[g];
             if (gt.visib_fract >= 0 && gt.visib_fract < 0.5) // unknown: every instance
                 continue;
-            real[gt.obj_id].push_back(refineFromTruth(*renderer, handle[gt.obj_id], img_maps,
-                                                      frames[f].K, gt, pts[gt.obj_id]));
-            pasted[gt.obj_id].push_back(refineFromTruth(*renderer, handle[gt.obj_id], scene_maps,
-                                                        frames[f].K, gt, pts[gt.obj_id]));
+            const int handle = objects.handle[gt.obj_id];
+            const std::vector<Point3f>& pts = objects.mesh[gt.obj_id].vertices;
+            real[gt.obj_id].push_back(refineFromTruth(*objects.renderer, handle, img_maps,
+                                                      frames[f].K, gt, pts));
+            pasted[gt.obj_id].push_back(refineFromTruth(*objects.renderer, handle, scene_maps,
+                                                        frames[f].K, gt, pts));
         }
     }
     int n = 0, real5 = 0, pasted5 = 0;
@@ -377,11 +396,10 @@ TEST(Forestmod_PoseEdges, DISABLED_outline_and_drawn_mask_on_real_frames)
     const BopDataset ds = BopDataset::open(root);
     const std::vector<Frame> frames = ds.frames(2);
     ASSERT_GE(frames.size(), (size_t)50);
-    Ptr<Renderer> renderer = Renderer::create(Size(640, 480));
-    std::map<int, int> handle, winding;
+    PastedObjects objects(root);
+    std::map<int, int> winding;
     std::map<int, Mesh> coarse;
     std::map<int, fd::SilhouetteEdges> edges;
-    std::map<int, std::vector<Point3f> > pts;
     RNG rng(20261126);
     // [scene: real, pasted][points: mask, outline][start: truth, turned]
     std::vector<double> err[2][2][2];
@@ -389,34 +407,23 @@ TEST(Forestmod_PoseEdges, DISABLED_outline_and_drawn_mask_on_real_frames)
     for (size_t f = 15; f < 50; ++f)
     {
         const Mat img = frames[f].rgb();
-        Mat scene = img.clone();
+        EdgeMaps maps[2];
+        computeEdgeMaps(img, maps[0]);
+        computeEdgeMaps(objects.paste(frames[f]), maps[1]);
         for (size_t g = 0; g < frames[f].gt.size(); ++g)
         {
             const GroundTruth& gt = frames[f].gt[g];
-            if (!handle.count(gt.obj_id))
+            if (gt.visib_fract >= 0 && gt.visib_fract < 0.5)
+                continue;
+            const Mesh& mesh = objects.mesh[gt.obj_id];
+            if (!coarse.count(gt.obj_id)) // the detector's copy, its clusters' order, its edges
             {
-                const Mesh mesh = Mesh::load(cv::format("%s/models/obj_%06d.ply", root.c_str(),
-                                                        gt.obj_id));
-                handle[gt.obj_id] = renderer->addMesh(mesh);
-                pts[gt.obj_id] = mesh.vertices;
                 Mesh& c = coarse[gt.obj_id];
                 c = fd::coarseMesh(mesh, fd::drawingCell(mesh.diameter()));
                 winding[gt.obj_id] = fd::closedWinding(c);
                 fd::clusterFaces(c, winding[gt.obj_id]);
                 edges[gt.obj_id] = fd::silhouetteEdges(c, winding[gt.obj_id]);
             }
-            Mat color, mask;
-            renderer->render(handle[gt.obj_id], gt.R, gt.t, frames[f].K, color, noArray(), mask);
-            color.copyTo(scene, mask);
-        }
-        EdgeMaps maps[2];
-        computeEdgeMaps(img, maps[0]);
-        computeEdgeMaps(scene, maps[1]);
-        for (size_t g = 0; g < frames[f].gt.size(); ++g)
-        {
-            const GroundTruth& gt = frames[f].gt[g];
-            if (gt.visib_fract >= 0 && gt.visib_fract < 0.5)
-                continue;
             Vec3d axis(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
             Vec3d shift(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
             Matx33d turn;
@@ -438,7 +445,7 @@ TEST(Forestmod_PoseEdges, DISABLED_outline_and_drawn_mask_on_real_frames)
                             EdgeRefineParams());
                         seconds[way] += (getTickCount() - t_begin) / getTickFrequency();
                         err[sc][way][start].push_back(projectionError2D(
-                            pts[gt.obj_id], frames[f].K, r.R, r.t, gt.R, gt.t));
+                            mesh.vertices, frames[f].K, r.R, r.t, gt.R, gt.t));
                     }
         }
     }
