@@ -59,7 +59,7 @@ public:
     /** Runs the passes up to `end` (at most params.passes; those already run are skipped). */
     void run(int end);
     /** Share of the silhouette points within params.inlier_distance of a scene edge of their
-    orientation, at the pose reached (the next pass starts from that drawing). */
+    orientation, at the pose reached (the next pass starts from those points). */
     double inlierRatio();
     /** Runs the remaining passes; the result as refinePoseEdges() gives it, and the drawing at its
     pose in *last when asked. */
@@ -75,7 +75,7 @@ private:
     EdgeRefineResult res_;
     std::vector<EdgePoint> pts_;
     int pass_;
-    bool drawn_;            // pts_ drawn at res_'s pose, by inlierRatio()
+    bool drawn_;            // pts_ taken at res_'s pose, by inlierRatio()
     Ptr<Drawing> drawing_;  // their drawing (empty when they came without one)
 };
 
