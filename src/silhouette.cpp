@@ -183,26 +183,32 @@ static int listSilhouetteEdges(const SilhouetteEdges& s, const uchar* front, int
 
 // Up to max_points pixels of the outlines (cv::findContours) within `inside` (buffer
 // coordinates), evenly spaced along them, each as the point of the edge drawn there whose
-// projection is nearest the pixel, with the outline's normal (between the pixels 2 before and 2
-// after it).
+// projection is nearest the pixel, moved half a pixel into the outline (at its depth, across the
+// line of sight), with the outline's normal (between the pixels 2 before and 2 after it). K, R:
+// the camera and the model's rotation.
 static void sampleOutlines(const std::vector<std::vector<Point> >& outlines, const Rect& inside,
                            const EdgeLines& lines, const std::vector<ProjectedEdge>& drawn,
-                           const Mesh& mesh, const SilhouetteEdges& s, int max_points,
-                           std::vector<SilhouettePoint>& pts)
+                           const Mesh& mesh, const SilhouetteEdges& s, const Matx33d& K,
+                           const Matx33d& R, int max_points, std::vector<SilhouettePoint>& pts)
 {
     const int reach = 2;
     std::vector<Point> on_image, along;
+    std::vector<float> turn; // +-1: the side of `along`'s perpendicular that the outline encloses
     for (size_t c = 0; c < outlines.size(); ++c)
     {
         const std::vector<Point>& o = outlines[c];
         const int m = (int)o.size();
+        const float side = contourArea(o, true) > 0 ? 1.f : -1.f;
         for (int i = 0; i < m; ++i)
             if (inside.contains(o[i]))
             {
                 on_image.push_back(o[i]);
                 along.push_back(o[(i + reach) % m] - o[(i + m * reach - reach) % m]);
+                turn.push_back(side);
             }
     }
+    const Matx33f Rt = Matx33f(R.t());
+    const float half_fx = 0.5f / (float)K(0, 0), half_fy = 0.5f / (float)K(1, 1);
     const size_t n = std::min(on_image.size(), (size_t)std::max(0, max_points));
     pts.resize(n);
     for (size_t i = 0; i < n; ++i)
@@ -219,8 +225,20 @@ static void sampleOutlines(const std::vector<std::vector<Point> >& outlines, con
         const float s3 = (s2 / p.zb) / ((1.f - s2) / p.za + s2 / p.zb);
         const Point3f &A = mesh.vertices[s.ends[p.edge][0]],
                       &B = mesh.vertices[s.ends[p.edge][1]];
-        pts[i].model = A + (B - A) * s3;
-        pts[i].normal = Vec2f((float)-along[k].y, (float)along[k].x);
+        const Vec2f normal((float)-along[k].y, (float)along[k].x);
+        const float length = std::sqrt(normal.dot(normal));
+        Point3f point = A + (B - A) * s3;
+        if (length > 0)
+        {
+            // half a pixel inwards at the point's depth: where the object's outermost drawn
+            // pixels lie on average (their centres covered), and what the edge maps are fitted
+            // to best (doc/pose.md, "Drawing at detection time")
+            const float z = (1.f - s3) * p.za + s3 * p.zb, f = turn[k] * z / length;
+            const Vec3f shift = Rt * Vec3f(normal[0] * f * half_fx, normal[1] * f * half_fy, 0.f);
+            point += Point3f(shift[0], shift[1], shift[2]);
+        }
+        pts[i].model = point;
+        pts[i].normal = normal;
     }
 }
 
@@ -275,7 +293,7 @@ bool meshSilhouette(const Mesh& mesh, const SilhouetteEdges& s, const Matx33d& K
     findContours(lines.lines, outlines, RETR_EXTERNAL, CHAIN_APPROX_NONE);
     // the image but its outermost pixels (there an edge's distance map has no neighbour)
     sampleOutlines(outlines, Rect(1 - origin.x, 1 - origin.y, image.width - 2, image.height - 2),
-                   lines, drawn, mesh, s, max_points, pts);
+                   lines, drawn, mesh, s, K, R, max_points, pts);
     return true;
 }
 

@@ -105,7 +105,7 @@ TEST(Forestmod_Silhouette, outline_follows_the_drawn_mask)
         GaussianBlur(mask, blurred, Size(5, 5), 0);
         Sobel(blurred, gx, CV_32F, 1, 0);
         Sobel(blurred, gy, CV_32F, 0, 1);
-        int agreeing = 0;
+        int agreeing = 0, inside = 0;
         for (size_t k = 0; k < pts.size(); ++k)
         {
             const Point2d p = project(K, R, t, pts[k].model);
@@ -113,7 +113,8 @@ TEST(Forestmod_Silhouette, outline_follows_the_drawn_mask)
                 << i << " " << k << " " << p;
             const Point q(std::min(std::max(cvRound(p.x), 0), image.width - 1),
                           std::min(std::max(cvRound(p.y), 0), image.height - 1));
-            ASSERT_LE(to_band.at<float>(q), 1.0f) << i << " " << k << " " << p;
+            ASSERT_LE(to_band.at<float>(q), 1.5f) << i << " " << k << " " << p;
+            inside += mask.at<uchar>(q) != 0; // half a pixel in: mostly on the object's pixels
             covered.at<uchar>(q) = 0;
             // the mask's gradient at the nearest boundary pixel
             double best = 1e9, mask_orientation = 0;
@@ -132,6 +133,7 @@ TEST(Forestmod_Silhouette, outline_follows_the_drawn_mask)
                                               mask_orientation) <= 30;
         }
         EXPECT_GE(agreeing, 0.9 * pts.size()) << i;
+        EXPECT_GE(inside, 0.75 * pts.size()) << i;
         distanceTransform(covered, to_points, DIST_L2, DIST_MASK_PRECISE);
         int near = 0, far = 0; // the boundary but on the image's outermost pixels
         for (int y = 1; y + 1 < image.height; ++y)
@@ -164,10 +166,11 @@ static Mesh cube(float h)
     return m;
 }
 
-// A cube seen over a corner, near the camera (its far edges recede): every point lies on one of
-// the cube's edges that the outline is made of (two coordinates at +-h, never on a face's
-// diagonal), projects onto its pixel (through perspective: the point of the edge whose projection
-// is nearest the pixel centre), and its normal is perpendicular to that edge's projection.
+// A cube seen over a corner, near the camera (its far edges recede): every point lies just inside
+// one of the cube's edges that the outline is made of (two coordinates at +-h, never on a face's
+// diagonal), its projection half a pixel from that edge's projection on the outline's inner side
+// and across it from a pixel centre (through perspective: the point of the edge whose projection
+// is nearest the pixel, moved in), and its normal is perpendicular to that edge's projection.
 TEST(Forestmod_Silhouette, cube_outline_lies_on_its_edges)
 {
     const float h = 50.f;
@@ -183,45 +186,57 @@ TEST(Forestmod_Silhouette, cube_outline_lies_on_its_edges)
     std::vector<fd::SilhouettePoint> pts;
     fd::meshSilhouette(box, edges, K, R, t, Size(640, 480), 100000, pts);
     ASSERT_GT(pts.size(), 200u);
-    int on_edges = 0;
+    const Point2d centre = project(K, R, t, Point3f(0, 0, 0));
+    const float near = 0.5f; // mm: half a pixel is at most 0.3 mm at these depths
+    int on_edges = 0, tested = 0;
     for (size_t k = 0; k < pts.size(); ++k)
     {
         const Point3f& m = pts[k].model;
-        const int at_h = (std::fabs(std::fabs(m.x) - h) < 1e-3f)
-            + (std::fabs(std::fabs(m.y) - h) < 1e-3f) + (std::fabs(std::fabs(m.z) - h) < 1e-3f);
-        ASSERT_GE(at_h, 2) << k << " " << m; // on an edge of the cube, not a diagonal
-        // the edge through m: the coordinate not at +-h runs along it
-        Point3f dir(0, 0, 0), a = m, b = m;
-        if (std::fabs(std::fabs(m.x) - h) >= 1e-3f)
-            a.x = -h, b.x = h;
-        else if (std::fabs(std::fabs(m.y) - h) >= 1e-3f)
-            a.y = -h, b.y = h;
+        const bool at_x = std::fabs(std::fabs(m.x) - h) < near,
+                   at_y = std::fabs(std::fabs(m.y) - h) < near,
+                   at_z = std::fabs(std::fabs(m.z) - h) < near;
+        ASSERT_GE(at_x + at_y + at_z, 2) << k << " " << m; // at an edge, not on a diagonal
+        ASSERT_TRUE(std::max(std::fabs(m.x), std::max(std::fabs(m.y), std::fabs(m.z)))
+                    < h + 1e-3f) << k << " " << m; // inside the cube
+        // the edge by m: the coordinate not at +-h runs along it, the others are the edge's
+        Point3f a(at_x ? (m.x > 0 ? h : -h) : -h, at_y ? (m.y > 0 ? h : -h) : -h,
+                  at_z ? (m.z > 0 ? h : -h) : -h);
+        Point3f b = a;
+        if (!at_x)
+            b.x = h;
+        else if (!at_y)
+            b.y = h;
         else
-            a.z = -h, b.z = h;
+            b.z = h;
         const Point2d pa = project(K, R, t, a), pb = project(K, R, t, b);
         const Point2d p = project(K, R, t, m);
-        const Point2d e = pb - pa;
+        const Point2d e = pb - pa, u = e * (1.0 / cv::norm(e));
         const double along = orientation(e.x, e.y), normal = orientation(pts[k].normal[0],
                                                                          pts[k].normal[1]);
         on_edges += orientationDifference(along + 90, normal) <= 25;
-        // m's projection is on the projected edge, and the nearest point of it to a pixel
-        // centre within 1.5 px (the outline's pixel): that pixel lies across the edge from it
-        const Point2d u = e * (1.0 / cv::norm(e));
-        ASSERT_LE(std::fabs((p - pa).cross(u)), 0.01) << k;
+        const double s = (p - pa).dot(u) / cv::norm(e);
+        if (at_x + at_y + at_z == 3 || s < 0.05 || s > 0.95)
+            continue; // at a corner: the outline turns there
+        // half a pixel from the projected edge, on the side of the cube's centre
+        const double off = (p - pa).cross(u), inner = (centre - pa).cross(u);
+        ASSERT_GT(std::fabs(off), 0.4) << k;
+        ASSERT_LT(std::fabs(off), 0.55) << k;
+        ASSERT_GT(off * inner, 0) << k;
+        // the foot on the projected edge is (nearly) the nearest point of it to a pixel centre
+        const Point2d foot = pa + u * (p - pa).dot(u);
         double across = 1e9;
         for (int dy = -2; dy <= 2; ++dy)
             for (int dx = -2; dx <= 2; ++dx)
             {
-                const Point2d c(cvRound(p.x) + dx, cvRound(p.y) + dy);
-                if (cv::norm(c - p) <= 1.5)
-                    across = std::min(across, std::fabs((c - p).dot(u)));
+                const Point2d c(cvRound(foot.x) + dx, cvRound(foot.y) + dy);
+                if (cv::norm(c - foot) <= 1.5)
+                    across = std::min(across, std::fabs((c - foot).dot(u)));
             }
-        if (cv::norm(p - pa) > 1e-3 && cv::norm(p - pb) > 1e-3) // not an end
-        {
-            ASSERT_LE(across, 0.01) << k;
-        }
+        ASSERT_LE(across, 0.25) << k;
+        ++tested;
     }
     EXPECT_GE(on_edges, 0.9 * pts.size());
+    EXPECT_GE(tested, 0.5 * pts.size());
 }
 
 // Two cubes seen face on, the second twice as far and (nearly) twice as large behind the first:
@@ -269,9 +284,12 @@ TEST(Forestmod_Silhouette, open_square_outline_is_its_border)
     const double side = 2 * h * K(0, 0) / 400; // px
     ASSERT_GT(pts.size(), 3.5 * side);
     ASSERT_LT(pts.size(), 4.5 * side);
-    for (size_t k = 0; k < pts.size(); ++k)
-        ASSERT_NEAR(std::max(std::fabs(pts[k].model.x), std::fabs(pts[k].model.y)), h, 1e-3)
-            << k;
+    for (size_t k = 0; k < pts.size(); ++k) // half a pixel inside: 0.35 mm at 400 mm
+    {
+        const float r = std::max(std::fabs(pts[k].model.x), std::fabs(pts[k].model.y));
+        ASSERT_LT(r, h) << k;
+        ASSERT_GT(r, h - 0.5f) << k;
+    }
     Matx33d turned; // seen from behind
     Rodrigues(Vec3d(0, CV_PI, 0), turned);
     fd::meshSilhouette(square, edges, K, turned, Vec3d(0, 0, 400), Size(640, 480), 100000, pts);
