@@ -36,9 +36,8 @@ struct CV_EXPORTS SilhouetteEdges
 +1 or -1); empty for winding 0 (an open mesh: its silhouette is the drawn mask's). */
 CV_EXPORTS SilhouetteEdges silhouetteEdges(const Mesh& mesh, int winding);
 
-/** A point of the outer silhouette: on the mesh (model frame, mm, on an edge of
-SilhouetteEdges) and the silhouette's normal in the image (the perpendicular of the edge's
-projection, not unit, either sign). */
+/** A point of the outer silhouette: model frame, mm (by an edge of SilhouetteEdges, half a pixel
+inside the outline), and the outline's normal in the image (not unit, either sign). */
 struct SilhouettePoint
 {
     Point3f model;
@@ -52,8 +51,10 @@ their ends) that border the region outside all of them, traced along the outline
 included; of those inside the image but its outermost pixels, up to max_points evenly spaced
 along the outline. Each gives the point of the edge nearest in depth at that pixel whose
 projection is nearest the pixel (pixel centres at integer coordinates, as drawMesh() samples
-them), and the outline's normal there (between the pixels two before and two after it): the
-boundary of drawMesh()'s mask to within a pixel, without drawing the faces. `pts` is empty when a
+them), moved half a pixel into the outline at its depth across the line of sight (where the
+boundary pixels of drawMesh()'s mask lie on average), and the outline's normal there (between the
+pixels two before and two after it): the boundary of drawMesh()'s mask to within a pixel, without
+drawing the faces. `pts` is empty when a
 corner of the bounding box lies behind the camera or the object does not project into the
 image. Returns false, without points, when the projected bounding box is more than twice the
 image's width or height (the buffers would be: draw the object instead). The edges must be this
