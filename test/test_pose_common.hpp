@@ -167,6 +167,17 @@ inline double rotationErrorDeg(const Matx33d& Ra, const Matx33d& Rb)
 }
 
 /** The LM-O camera (BOP lmo camera.json). */
+/** Views of `mesh` from a level-1 hemisphere at these distances (mm), looking at its centre (the
+default sampler's elevations and in-plane rotations). */
+inline std::vector<ViewPose> hemisphereViews(const Mesh& mesh, const std::vector<double>& radii)
+{
+    ViewSampler::Params sp;
+    sp.level = 1;
+    sp.radii = radii;
+    const Point3f c = mesh.center();
+    return ViewSampler(sp).poses(Point3d(c.x, c.y, c.z));
+}
+
 } // namespace pose_test
 } // namespace opencv_test
 

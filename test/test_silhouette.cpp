@@ -7,7 +7,7 @@
 // meshes and poses it does not take.
 
 #include "test_precomp.hpp"
-#include "../src/draw_mesh.hpp"
+#include "test_pose_common.hpp"
 
 namespace opencv_test { namespace {
 
@@ -49,11 +49,7 @@ TEST(Forestmod_Silhouette, outline_follows_the_drawn_mask)
     ASSERT_EQ(edges.plane.size(), 4 * coarse.faces.size());
     const Matx33d K = lmoIntrinsics();
     const Size image(640, 480);
-    ViewSampler::Params sp;
-    sp.level = 1;
-    sp.radii = std::vector<double>{ 300.0, 700.0, 1400.0 };
-    const std::vector<ViewPose> views = ViewSampler(sp).poses(
-        Point3d(ape.center().x, ape.center().y, ape.center().z));
+    const std::vector<ViewPose> views = pose_test::hemisphereViews(ape, { 300.0, 700.0, 1400.0 });
     int tested = 0, cut = 0;
     for (size_t i = 0; i < views.size(); i += 5)
     {

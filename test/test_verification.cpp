@@ -8,6 +8,7 @@
 #include "test_precomp.hpp"
 #include "../src/verification.hpp"
 #include "../src/edge_gradient.hpp"
+#include "test_pose_common.hpp"
 
 #include <map>
 
@@ -628,11 +629,8 @@ TEST(Forestmod_Verification, face_clusters_skip_only_faces_that_face_away)
         for (size_t k = 0; k + 1 < clusters.begin.size(); ++k)
             ASSERT_LE(clusters.begin[k + 1] - clusters.begin[k], 16) << k;
 
-        ViewSampler::Params sp;
-        sp.level = 1;
-        sp.radii = std::vector<double>{250.0, 700.0, 1400.0};
-        const std::vector<ViewPose> views = ViewSampler(sp).poses(
-            Point3d(ape.center().x, ape.center().y, ape.center().z));
+        const std::vector<ViewPose> views = pose_test::hemisphereViews(ape,
+                                                                        { 250.0, 700.0, 1400.0 });
         double skipped = 0, away = 0;
         int compared = 0;
         for (size_t i = 0; i < views.size(); i += 3)
