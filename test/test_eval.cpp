@@ -381,6 +381,59 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
     EXPECT_EQ(2u, cached.size());
 }
 
+// --gt_similarity: a template made at each object's ground-truth pose matches the rendered scene
+// on the object almost exactly (the scene is that rendering on a real background), the matches on
+// the object are recorded for both detectors, and the table says so; without the flag the JSON
+// has no such similarity.
+TEST(Forestmod_Eval, ground_truth_template_similarity_on_a_rendered_dataset)
+{
+    const std::string eval = samplePath("forestmod_eval");
+    const TempDir tmp("forestmod_eval_gt_similarity");
+    const std::string& dir = tmp.path;
+    const std::string root = dir + "/data";
+    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 3));
+    const std::string common = "'" + eval + "' --dataset='" + root + "' --scene=1 --objects=1 "
+        "--no_multi --five_trees=false --level=0 --min_elevation=0 --radii=700 "
+        "--inplane=0,0,15 --threshold=70 --sweep=none --repeat=1 --cache='" + dir + "/cache'";
+    for (int with = 0; with < 2; ++with)
+    {
+        const std::string json = cv::format("%s/out%d.json", dir.c_str(), with);
+        std::string out, err;
+        ASSERT_EQ(0, run(common + (with ? " --gt_similarity" : "") + " --json='" + json + "'",
+                         dir, out, err)) << out << err;
+        EXPECT_EQ(with != 0, out.find("## Similarity on the object") != std::string::npos)
+            << out;
+        cv::FileStorage fs = readJson(json);
+        ASSERT_TRUE(fs.isOpened());
+        const cv::FileNode o = fs["objects"][0];
+        int on_object = 0;
+        for (int row = 0; row < 2; ++row)
+        {
+            const cv::FileNode pf = o[row ? "linemod" : "forestmod"]["per_frame"];
+            ASSERT_EQ(3, (int)pf.size());
+            for (int f = 0; f < 3; ++f)
+            {
+                const double gt = number(pf[f]["gt_similarity"]),
+                             correct = number(pf[f]["correct_similarity"]);
+                if (with)
+                {
+                    EXPECT_GE(gt, 97.5) << row << " " << f; // 150 mm farther: 95.6-96.3
+                    EXPECT_LE(gt, 100.0) << row << " " << f;
+                }
+                else
+                    EXPECT_TRUE(cvIsNaN(gt)) << row << " " << f;
+                if (!cvIsNaN(correct))
+                {
+                    ++on_object;
+                    EXPECT_GE(correct, 70.0) << row << " " << f;
+                    EXPECT_LE(correct, 100.0) << row << " " << f;
+                }
+            }
+        }
+        EXPECT_GE(on_object, 4) << with; // the ape is shown at template poses
+    }
+}
+
 // --first_frame skips the scene's first frames (a parameter is set on frames that the reported
 // runs do not use), and skipping them all is an error that says so.
 TEST(Forestmod_Eval, first_frame_skips_the_first_frames)

@@ -15,7 +15,10 @@
 
 #include "../sample_utils.hpp"
 
+#include <map>
+#include <memory>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -81,6 +84,10 @@ struct EvalOptions
     int verify_k;                      //!< hypotheses per object (recall@verify_k)
     //! w_similarity, w_color, w_edges, w_depth; empty: VerificationParams' defaults
     std::vector<double> verify_weights;
+
+    /** --gt_similarity: each object also matched with a template made at its ground-truth pose
+    (FrameRecord::gt_similarity, the "Similarity on the object" table) */
+    bool gt_similarity;
 };
 
 /** Parses argv; returns 0 when the program should go on, -1 after printing the help (exit
@@ -154,6 +161,14 @@ struct FrameRecord
     the verification weights are set on */
     std::vector<cv::Vec<double, 8> > hyps;
     std::vector<cv::linemod::Match> top; //!< the class's best matches (up to 5), as matched
+    /** The best similarity of the class's matches whose template box lies on the object (box IoU
+    >= 0.5 with the ground truth's), NaN without one */
+    double correct_similarity;
+    /** The best similarity of the class's other matches (box IoU < 0.5), NaN without one */
+    double off_similarity;
+    /** --gt_similarity: the best similarity on the object (box IoU >= 0.5) of a template made at
+    the ground-truth pose, NaN when not measured */
+    double gt_similarity;
 };
 
 /** Accumulated results of one detector on one object (or on the multi-object model). Times are
@@ -233,6 +248,23 @@ ObjectInfo objectVariant(const ObjectInfo& obj, int k);
 // ---------------------------------------------------------------------------------------------
 // running the detectors (eval_run.cpp)
 
+/** Templates made at the objects' ground-truth poses (rendered on the frame's camera) and their
+best similarity on the object, kept per frame and object. */
+class GroundTruthTemplates
+{
+public:
+    /** The best similarity of the template made at gt's pose among its matches (threshold 50,
+    every position scored) on f whose box lies on the object (IoU >= 0.5 with gt_box), with
+    like's modalities and pyramid; NaN when no template can be made there. */
+    double similarity(const fm::Detector& like, const ObjectInfo& obj, const EvalFrame& f,
+                      const fm::GroundTruth& gt, const cv::Rect2d& gt_box);
+
+private:
+    cv::Ptr<fm::Renderer> renderer_;
+    std::map<int, int> handles_;                      //!< obj_id -> mesh
+    std::map<std::tuple<int, int, int>, double> measured_; //!< (scene, image, obj_id) -> similarity
+};
+
 struct RunContext
 {
     const std::vector<EvalFrame>* frames;
@@ -245,6 +277,9 @@ struct RunContext
     int repeat;
     Progress* progress;
     fm::VerificationParams verify; //!< top_k: hypotheses per object scored (recall@top_k)
+    /** --gt_similarity: the templates made at the ground-truth poses and their similarities (one
+    per frame and object, shared by the rows); null when not asked */
+    std::shared_ptr<GroundTruthTemplates> gt;
 };
 
 /** The run's context from the options (--threshold, --rgb_refine, --rgb_grid, --rgb_hypotheses,

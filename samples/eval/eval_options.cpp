@@ -102,6 +102,9 @@ static const char* const keys
       "matches), verified and counted in recall@k (VerificationParams::top_k) }"
       "{verify_weights  |          | w_similarity,w_color,w_edges,w_depth[,w_region] of the "
       "verification (default: VerificationParams') }"
+      "{gt_similarity   |          | also match, for every object and frame, a template made at its "
+      "ground-truth pose: its similarity on the object against the detectors' best matches (a "
+      "table; JSON gt_similarity, correct_similarity) }"
       "{force           |          | overwrite the --json file, heat maps and plots }";
 
 EvalOptions::EvalOptions()
@@ -115,7 +118,7 @@ EvalOptions::EvalOptions()
       exhaustive_ratio(0.f), has_exhaustive_ratio(false), depth_range_tolerance(0.f),
       has_depth_range_tolerance(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
       depth_validation(true), hue_feature_saturation(-1),
-      hue_feature_area(-1.f), five_trees(true), verify_k(10)
+      hue_feature_area(-1.f), five_trees(true), verify_k(10), gt_similarity(false)
 {
     regimeSampler(regime, sampler);
 }
@@ -284,6 +287,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.hue_feature_area = parser.get<float>("hue_feature_area");
     opt.force = parser.has("force");
     opt.verify_k = parser.get<int>("verify_k");
+    opt.gt_similarity = parser.has("gt_similarity");
     const std::string weights_arg = parser.get<std::string>("verify_weights");
     // the sampler: the regime's, then the flags given
     fm::ViewSampler::Params& sp = opt.sampler;

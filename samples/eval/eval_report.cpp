@@ -125,6 +125,9 @@ void writeResult(cv::FileStorage& fs, const std::string& key, const Result& r, b
             writeNumber(fs, "proj2d_px", f.proj);
             writeNumber(fs, "add_d", f.add);
             writeNumber(fs, "verification", f.verification);
+            writeNumber(fs, "correct_similarity", f.correct_similarity);
+            writeNumber(fs, "off_similarity", f.off_similarity);
+            writeNumber(fs, "gt_similarity", f.gt_similarity);
             fs << "top" << "[";
             for (size_t k = 0; k < f.top.size(); ++k)
                 fs << "[:" << f.top[k].template_id << f.top[k].x << f.top[k].y

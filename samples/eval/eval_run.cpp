@@ -30,6 +30,14 @@ static cv::Rect2d projectedBox(const std::vector<cv::Point3f>& pts, const cv::Ma
     return x1 < x0 ? cv::Rect2d() : cv::Rect2d(x0, y0, x1 - x0, y1 - y0);
 }
 
+// The ground truth's box of the whole object, or its projection when the dataset has none.
+static cv::Rect2d groundTruthBox(const fm::GroundTruth& gt, const EvalFrame& f,
+                                 const ObjectInfo& obj)
+{
+    const cv::Rect2d box = gt.bbox_obj;
+    return box.area() > 0 ? box : projectedBox(obj.pts, f.K, gt.R, gt.t);
+}
+
 /** Scores one hypothesis (or none) of an object against its ground truth into res and rec.
 top: the hypotheses in rank order, for recall@10. record: their features into rec.hyps. */
 static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::GroundTruth& gt,
@@ -39,9 +47,7 @@ static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::Gro
     ++res.n2d;
     if (use_depth)
         ++res.nadd;
-    cv::Rect2d gt_box = gt.bbox_obj;
-    if (gt_box.area() <= 0)
-        gt_box = projectedBox(obj.pts, f.K, gt.R, gt.t);
+    const cv::Rect2d gt_box = groundTruthBox(gt, f, obj);
     bool hit2d = false, hitproj = false;
     for (size_t k = 0; k < top.size(); ++k)
     {
@@ -87,6 +93,53 @@ static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::Gro
     res.ok2d_at10 += hit2d;
     res.okproj_at10 += hitproj;
     res.per_frame.push_back(rec);
+}
+
+double GroundTruthTemplates::similarity(const fm::Detector& like, const ObjectInfo& obj,
+                                        const EvalFrame& f, const fm::GroundTruth& gt,
+                                        const cv::Rect2d& gt_box)
+{
+    const std::tuple<int, int, int> key(f.scene_id, f.im_id, obj.obj_id);
+    const std::map<std::tuple<int, int, int>, double>::const_iterator known = measured_.find(key);
+    if (known != measured_.end())
+        return known->second;
+    if (!renderer_ || renderer_->size() != f.rgb.size())
+    {
+        renderer_ = fm::Renderer::create(f.rgb.size());
+        handles_.clear();
+    }
+    if (!handles_.count(obj.obj_id))
+        handles_[obj.obj_id] = renderer_->addMesh(obj.mesh);
+    cv::Mat color, depth, mask;
+    renderer_->render(handles_[obj.obj_id], gt.R, gt.t, f.K, color, depth, mask);
+    const std::vector<cv::Ptr<cv::linemod::Modality> > mods = like.getModalities();
+    std::vector<int> T;
+    for (int l = 0; l < like.pyramidLevels(); ++l)
+        T.push_back(like.getT(l));
+    fm::DetectorParams exhaustive; // every position scored: the similarity itself
+    exhaustive.exhaustive_ratio = 0.f;
+    fm::Detector one(mods, T, exhaustive);
+    std::vector<cv::Mat> drawn, scene;
+    for (size_t m = 0; m < mods.size(); ++m)
+    {
+        const bool d = mods[m]->name() == "DepthNormal";
+        drawn.push_back(d ? depth : color);
+        scene.push_back(d ? f.depth : f.rgb);
+    }
+    double best = std::numeric_limits<double>::quiet_NaN();
+    if (cv::countNonZero(mask) > 0 && one.addTemplate(drawn, "gt", mask, gt.R, gt.t, f.K) >= 0)
+    {
+        std::vector<cv::linemod::Match> matches;
+        one.match(scene, 50.f, matches);
+        const cv::linemod::Template& t0 = one.getTemplates("gt", 0)[0];
+        for (size_t i = 0; i < matches.size(); ++i)
+            if (fm::boxIoU(cv::Rect2d(matches[i].x, matches[i].y, t0.width, t0.height), gt_box)
+                    >= 0.5
+                && !(matches[i].similarity <= best))
+                best = matches[i].similarity;
+    }
+    measured_[key] = best;
+    return best;
 }
 
 /** Scores the hypotheses of an object in a frame. matches: the detector's output (sorted, best
@@ -192,6 +245,22 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     for (size_t i = 0; i < matches.size() && rec.top.size() < 5; ++i)
         if (matches[i].class_id == obj.class_id)
             rec.top.push_back(matches[i]);
+    const cv::Rect2d on_object = groundTruthBox(*gt, f, obj);
+    rec.correct_similarity = rec.off_similarity = rec.gt_similarity = nan;
+    for (size_t i = 0; i < matches.size(); ++i)
+    {
+        if (matches[i].class_id != obj.class_id)
+            continue;
+        const cv::linemod::Template& t0 = posedet.getTemplates(matches[i].class_id,
+                                                               matches[i].template_id)[0];
+        double& best = fm::boxIoU(cv::Rect2d(matches[i].x, matches[i].y, t0.width, t0.height),
+                                  on_object) >= 0.5 ? rec.correct_similarity
+                                                    : rec.off_similarity;
+        if (!(matches[i].similarity <= best))
+            best = matches[i].similarity;
+    }
+    if (ctx.gt)
+        rec.gt_similarity = ctx.gt->similarity(posedet, obj, f, *gt, on_object);
     scoreHypotheses(top, *gt, f, obj, use_depth, res, rec);
     if (!verified)
         return;
@@ -376,6 +445,8 @@ RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& fram
     ctx.rgb_grid = opt.rgb_grid;
     ctx.rgb_hypotheses = opt.rgb_hypotheses;
     ctx.rgb_keep = opt.rgb_keep;
+    if (opt.gt_similarity)
+        ctx.gt = std::make_shared<GroundTruthTemplates>();
     ctx.repeat = opt.repeat;
     ctx.progress = &progress;
     ctx.verify.top_k = opt.verify_k;

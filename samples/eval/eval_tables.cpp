@@ -16,6 +16,63 @@
 
 namespace fmeval {
 
+// The values of the frames' records that are measured (not NaN).
+static std::vector<double> measured(const std::vector<FrameRecord>& records,
+                                    double FrameRecord::*field)
+{
+    std::vector<double> v;
+    for (size_t i = 0; i < records.size(); ++i)
+        if (records[i].*field == records[i].*field)
+            v.push_back(records[i].*field);
+    return v;
+}
+
+// --gt_similarity: per object, the medians over the frames of the best similarity off the object
+// and on it, and of a template made at the ground-truth pose; and the frames where that template
+// scores below cv::linemod's best match off the object (one of the templates on the clutter).
+static void printSimilarityOnTheObject(const std::vector<ObjectInfo>& objects,
+                                       const std::vector<Result>& fm1,
+                                       const std::vector<Result>& lm)
+{
+    printf("\n## Similarity on the object\n\n");
+    printf("| object | frames | best off the object: forestmod / cv::linemod | best on the object: "
+           "forestmod / cv::linemod (frames with one) | template at the ground truth (frames) | "
+           "frames where it scores below cv::linemod's best off the object |\n"
+           "|---|---|---|---|---|---|\n");
+    for (size_t o = 0; o < objects.size(); ++o)
+    {
+        int below = 0, compared = 0;
+        for (size_t i = 0; i < lm[o].per_frame.size(); ++i)
+        {
+            const FrameRecord& r = lm[o].per_frame[i];
+            if (r.gt_similarity == r.gt_similarity && r.off_similarity == r.off_similarity)
+            {
+                ++compared;
+                below += r.gt_similarity < r.off_similarity;
+            }
+        }
+        const std::vector<double> off_fm = measured(fm1[o].per_frame,
+                                                    &FrameRecord::off_similarity),
+                                  off_lm = measured(lm[o].per_frame, &FrameRecord::off_similarity),
+                                  on_fm = measured(fm1[o].per_frame,
+                                                   &FrameRecord::correct_similarity),
+                                  on_lm = measured(lm[o].per_frame,
+                                                   &FrameRecord::correct_similarity),
+                                  gt = measured(lm[o].per_frame, &FrameRecord::gt_similarity);
+        printf("| %s | %d | %s / %s | %s / %s (%d / %d) | %s (%d) | %d of %d |\n",
+               objects[o].name.c_str(), (int)lm[o].per_frame.size(),
+               num(median(off_fm), "%.1f").c_str(), num(median(off_lm), "%.1f").c_str(),
+               num(median(on_fm), "%.1f").c_str(), num(median(on_lm), "%.1f").c_str(),
+               (int)on_fm.size(), (int)on_lm.size(), num(median(gt), "%.1f").c_str(),
+               (int)gt.size(), below, compared);
+    }
+    printf("\nMedians over the frames with ground truth. On the object: a match whose template "
+           "box has IoU >= 0.5 with the ground truth's box (off: < 0.5, the clutter and the other "
+           "objects). Template at the ground truth: the "
+           "object rendered at its ground-truth pose, a template made of it with the same "
+           "modalities and its best match on the object (threshold 50).\n");
+}
+
 int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
               const std::vector<EvalFrame>& frames, const TemplateSetup& setup, bool use_depth,
               cv::FileStorage& fs)
@@ -226,6 +283,8 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
                opt.rgb_keep,
                num(median(tp)).c_str(), num(quantile(tp, 1)).c_str());
     }
+    if (opt.gt_similarity)
+        printSimilarityOnTheObject(objects, r1, rl);
     printf("\nT_quant: forestmod's DetectionStats::t_quantize_ms (modalities, spreading, response "
            "maps); cv::linemod's modalities' process + pyrDown + quantize of every level, timed "
            "apart on the same frame (its spreading and response maps are in T_total only).\n");
