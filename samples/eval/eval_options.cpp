@@ -102,9 +102,10 @@ static const char* const keys
       "matches), verified and counted in recall@k (VerificationParams::top_k) }"
       "{verify_weights  |          | w_similarity,w_color,w_edges,w_depth[,w_region] of the "
       "verification (default: VerificationParams') }"
-      "{gt_similarity   |          | also match, for every object and frame, a template made at its "
-      "ground-truth pose: its similarity on the object against the detectors' best matches (a "
-      "table; JSON gt_similarity, correct_similarity) }"
+      "{gt_similarity   |          | also match, for every object and frame, a template made at "
+      "its ground-truth pose: its similarity on the object against the detectors' best matches "
+      "(a table; JSON gt_similarity, and for both detectors correct_similarity and "
+      "off_similarity) }"
       "{force           |          | overwrite the --json file, heat maps and plots }";
 
 EvalOptions::EvalOptions()
