@@ -18,21 +18,6 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-// True when the edge `ends` between faces f0 and f1 folds inwards: the vertex of f1 off the edge
-// lies in front of f0's plane (by more than rounding). Seen from where one of the two faces looks
-// towards the camera and the other away, such an edge lies behind the surface around it, inside
-// the outline: it is left out of the silhouette edges (a third of the edges of LM-O's meshes).
-static bool concave(const Mesh& mesh, const SilhouetteEdges& s, int f0, int f1, Vec2i ends)
-{
-    const int nf = (int)mesh.faces.size();
-    const Vec3i& F = mesh.faces[f1];
-    const int other = F[0] != ends[0] && F[0] != ends[1] ? F[0]
-                    : F[1] != ends[0] && F[1] != ends[1] ? F[1] : F[2];
-    const Point3f n(s.plane[f0], s.plane[nf + f0], s.plane[2 * nf + f0]);
-    const Point3f d = mesh.vertices[other] - mesh.vertices[ends[0]];
-    return n.dot(d) > 1e-4 * norm(n) * norm(d);
-}
-
 SilhouetteEdges silhouetteEdges(const Mesh& mesh, int winding)
 {
     SilhouetteEdges s;
@@ -65,8 +50,6 @@ SilhouetteEdges silhouetteEdges(const Mesh& mesh, int winding)
     {
         const std::vector<int>& f = it->second;
         const Vec2i ends(it->first.first, it->first.second);
-        if (f.size() == 2 && concave(mesh, s, f[0], f[1], ends))
-            continue; // never on the outline
         if (f.size() == 2)
             edges.push_back(std::make_pair(Vec2i(f[0], f[1]), ends));
         else

@@ -19,9 +19,7 @@ edges between faces. On a closed mesh drawn without the faces seen from inside (
 boundary of the drawn mask lies on the projections of the edges whose two faces look different
 ways (one towards the camera, one away), or of the edges of a face that faces the camera and
 shares them with no other face or with more than one: a manifold edge between two faces that
-look the same way has one face on each side of its projection. Of the edges between two faces
-only the convex ones are kept (and the flat ones): where the faces of a concave edge look
-different ways, the surface next to it hides it, so it is never on the outline. */
+look the same way has one face on each side of its projection. */
 struct CV_EXPORTS SilhouetteEdges
 {
     /** The faces' outward normals (not unit) and offsets, n faces each: x of every face, then y,
