@@ -727,12 +727,12 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
         if (ratio > 0.f && (r % kSample == kSample / 2 || (H <= kSample / 2 && r == H / 2)))
             sample.push_back(r);
     }
-    if (ratio == 0.f)
-    {
-        for (int g = 0; g < NG; ++g)
+    // with ratio 0 every group, with a positive ratio the groups of few templates
+    // (min_forest_templates) are searched exhaustively without a sample
+    for (int g = 0; g < NG; ++g)
+        if (ratio == 0.f || (ratio > 0.f && templates[g] <= params.min_forest_templates))
             ctx.active[g] = 0;
-    }
-    else if (!sample.empty())
+    if (!sample.empty() && std::find(ctx.active.begin(), ctx.active.end(), 1) != ctx.active.end())
     {
         SampleLimits limits;
         limits.pairs.assign(NG, 0);

@@ -172,7 +172,9 @@ TEST(Forestmod_Detector, drop_in_for_linemod_programs)
 TEST(Forestmod_Detector, forest_finds_object_and_rejects_background)
 {
     const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
-    cv::forestmod::Detector det(mods, Tpyr());
+    DetectorParams p;
+    p.min_forest_templates = 0; // 40 templates: the forest path, which is tested here
+    cv::forestmod::Detector det(mods, Tpyr(), p);
     std::vector<float> angles;
     addObjectTemplates(det, 40, "L", &angles);
     det.train();
@@ -440,6 +442,7 @@ TEST(Forestmod_Detector, exhaustive_decision_from_a_strided_sample)
     p.forest.max_depth = 2;     // large leaves and no rejectors: most locations pass, with many
     p.forest.rejector_dims = 0; // candidates each, so that the sample's limit is many pairs
     p.group_size_ratio = 2.f;   // one search group
+    p.min_forest_templates = 0; // of 60 templates, decided by the sample
     cv::forestmod::Detector det(mods, Tpyr(), p);
     addObjectTemplates(det, 60, "L", 0);
     det.train();

@@ -99,6 +99,14 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     report (doc/detector.md, "Bounded worst case"). 0: every group exhaustive (no traversal);
     negative: never. */
     CV_PROP_RW float exhaustive_ratio;
+    /** With a positive exhaustive_ratio, a search group of at most this many asked-for templates
+    is searched exhaustively without sampling its forest: that search costs little, and a forest
+    of a few views, its rejectors made from renderings, rejects the object itself on real frames
+    (LM-O frames 15-49 with 6 and with 42 templates per object: the can and the eggbox rejected at
+    97-100 % of the locations and never found, where cv::linemod with the same templates finds
+    them; doc/detector.md, "Small models"). Default 64. 0: every group decided by the sample.
+    Model files written without it load with 0 (they match as they did). */
+    CV_PROP_RW int min_forest_templates;
 
     // ---- depth modality (paper: depth "as another modality in the validation stage") ----
     /** With a DepthNormal modality, addTemplate keeps up to this many depth samples per template;
