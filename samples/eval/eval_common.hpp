@@ -70,6 +70,7 @@ struct EvalOptions
     int depth_samples, depth_tolerance, max_survivors, any_tree;
     float exhaustive_ratio;      //!< DetectorParams::exhaustive_ratio when has_exhaustive_ratio
     bool has_exhaustive_ratio;
+    int min_forest_templates;    //!< DetectorParams::min_forest_templates when >= 0
     float depth_range_tolerance; //!< DetectorParams::depth_range_tolerance when has_...
     bool has_depth_range_tolerance;
     float fuzzy_margin;          //!< ForestParams::fuzzy_margin when >= 0

@@ -85,6 +85,8 @@ static const char* const keys
       "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
       "{exhaustive_ratio |         | experiment: DetectorParams::exhaustive_ratio (empty: default; "
       "negative: never exhaustive, 0: always) }"
+      "{min_forest_templates | -1  | experiment: DetectorParams::min_forest_templates (-1: "
+      "default; 0: every search group decided by the sample) }"
       "{depth_range_tolerance |    | experiment: DetectorParams::depth_range_tolerance (empty: "
       "default; negative: off) }"
       "{fuzzy_margin    | -1       | experiment: ForestParams::fuzzy_margin of the forests (0: "
@@ -116,7 +118,8 @@ EvalOptions::EvalOptions()
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
-      exhaustive_ratio(0.f), has_exhaustive_ratio(false), depth_range_tolerance(0.f),
+      exhaustive_ratio(0.f), has_exhaustive_ratio(false), min_forest_templates(-1),
+      depth_range_tolerance(0.f),
       has_depth_range_tolerance(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
       depth_validation(true), hue_feature_saturation(-1),
       hue_feature_area(-1.f), five_trees(true), verify_k(10), gt_similarity(false)
@@ -192,6 +195,8 @@ fm::DetectorParams experimentParams(const EvalOptions& opt, fm::DetectorParams p
         p.max_survivors = opt.max_survivors;
     if (opt.has_exhaustive_ratio)
         p.exhaustive_ratio = opt.exhaustive_ratio;
+    if (opt.min_forest_templates >= 0)
+        p.min_forest_templates = opt.min_forest_templates;
     if (opt.has_depth_range_tolerance)
         p.depth_range_tolerance = opt.depth_range_tolerance;
     if (opt.fuzzy_margin >= 0.f)
@@ -275,6 +280,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.depth_tolerance = parser.get<int>("depth_tolerance");
     opt.depth_validation = parser.get<int>("depth_validation") != 0;
     opt.max_survivors = parser.get<int>("max_survivors");
+    opt.min_forest_templates = parser.get<int>("min_forest_templates");
     opt.has_exhaustive_ratio = !parser.get<std::string>("exhaustive_ratio").empty();
     if (opt.has_exhaustive_ratio)
         opt.exhaustive_ratio = parser.get<float>("exhaustive_ratio");
