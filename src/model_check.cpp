@@ -59,8 +59,8 @@ void checkDetectorParams(const DetectorParams& p)
                "max_survivors x (T / location step)^2 matches per position)");
     CV_Check(p.exhaustive_ratio, finite(p.exhaustive_ratio),
              "DetectorParams: exhaustive_ratio must be finite (negative: never exhaustive)");
-    CV_Check(p.min_forest_templates, p.min_forest_templates >= 0,
-             "DetectorParams: min_forest_templates must be >= 0");
+    CV_CheckGE(p.min_forest_templates, 0,
+               "DetectorParams: min_forest_templates must not be negative");
     CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");
     CV_CheckLE(p.depth_samples, 256, "DetectorParams: depth_samples must be at most 256");
     CV_CheckGT(p.depth_tolerance, 0, "DetectorParams: depth_tolerance must be positive");
