@@ -142,6 +142,27 @@ double GroundTruthTemplates::similarity(const fm::Detector& like, const ObjectIn
     return best;
 }
 
+// The best similarity of the class's matches whose template box lies on the object (box IoU >= 0.5
+// with on_object) and of the others, into rec (NaN without one).
+static void bestOnAndOff(const std::vector<cv::linemod::Match>& matches,
+                         const fm::Detector& posedet, const ObjectInfo& obj,
+                         const cv::Rect2d& on_object, FrameRecord& rec)
+{
+    rec.correct_similarity = rec.off_similarity = std::numeric_limits<double>::quiet_NaN();
+    for (size_t i = 0; i < matches.size(); ++i)
+    {
+        if (matches[i].class_id != obj.class_id)
+            continue;
+        const cv::linemod::Template& t0 = posedet.getTemplates(matches[i].class_id,
+                                                               matches[i].template_id)[0];
+        double& best = fm::boxIoU(cv::Rect2d(matches[i].x, matches[i].y, t0.width, t0.height),
+                                  on_object) >= 0.5 ? rec.correct_similarity
+                                                    : rec.off_similarity;
+        if (!(matches[i].similarity <= best))
+            best = matches[i].similarity;
+    }
+}
+
 /** Scores the hypotheses of an object in a frame. matches: the detector's output (sorted, best
 first, before non-maximum suppression); posedet: a forestmod::Detector with the same templates
 (pose labels, meshes). The matches of the class are grouped by location (greedy, box IoU > 0.5
@@ -246,19 +267,8 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
         if (matches[i].class_id == obj.class_id)
             rec.top.push_back(matches[i]);
     const cv::Rect2d on_object = groundTruthBox(*gt, f, obj);
-    rec.correct_similarity = rec.off_similarity = rec.gt_similarity = nan;
-    for (size_t i = 0; i < matches.size(); ++i)
-    {
-        if (matches[i].class_id != obj.class_id)
-            continue;
-        const cv::linemod::Template& t0 = posedet.getTemplates(matches[i].class_id,
-                                                               matches[i].template_id)[0];
-        double& best = fm::boxIoU(cv::Rect2d(matches[i].x, matches[i].y, t0.width, t0.height),
-                                  on_object) >= 0.5 ? rec.correct_similarity
-                                                    : rec.off_similarity;
-        if (!(matches[i].similarity <= best))
-            best = matches[i].similarity;
-    }
+    bestOnAndOff(matches, posedet, obj, on_object, rec);
+    rec.gt_similarity = nan;
     if (ctx.gt)
         rec.gt_similarity = ctx.gt->similarity(posedet, obj, f, *gt, on_object);
     scoreHypotheses(top, *gt, f, obj, use_depth, res, rec);
