@@ -465,22 +465,6 @@ TEST(Forestmod_HostileInputs, binary_ply_counts_checked_against_the_data)
     EXPECT_NE(std::string::npos, err.find("more data than its PLY header declares")) << err;
 }
 
-static Mesh box(float side)
-{
-    Mesh m;
-    const float h = side / 2;
-    for (int i = 0; i < 8; ++i)
-        m.vertices.push_back(Point3f(i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h));
-    const int q[6][4] = { { 0, 1, 3, 2 }, { 4, 6, 7, 5 }, { 0, 4, 5, 1 },
-                          { 2, 3, 7, 6 }, { 0, 2, 6, 4 }, { 1, 5, 7, 3 } };
-    for (int k = 0; k < 6; ++k)
-    {
-        m.faces.push_back(Vec3i(q[k][0], q[k][1], q[k][2]));
-        m.faces.push_back(Vec3i(q[k][0], q[k][2], q[k][3]));
-    }
-    return m;
-}
-
 TEST(Forestmod_HostileInputs, addTemplates_refuses_views_without_or_covered_by_the_object)
 {
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
@@ -489,11 +473,11 @@ TEST(Forestmod_HostileInputs, addTemplates_refuses_views_without_or_covered_by_t
     const Matx33d K(500, 0, 160, 0, 500, 120, 0, 0, 1);
     const Size size(320, 240);
     // a normal box: templates
-    EXPECT_GT(det->addTemplates(box(100.f), "box", sampler, K, size), 0);
+    EXPECT_GT(det->addTemplates(closedCube(50.f), "box", sampler, K, size), 0);
     // far too small to give features
     try
     {
-        det->addTemplates(box(0.01f), "speck", sampler, K, size);
+        det->addTemplates(closedCube(0.005f), "speck", sampler, K, size);
         ADD_FAILURE() << "a box of 0.01 mm gave templates";
     }
     catch (const cv::Exception& e)
@@ -505,7 +489,7 @@ TEST(Forestmod_HostileInputs, addTemplates_refuses_views_without_or_covered_by_t
     // the camera 100 mm in front of a 1400 mm box: it covers the frame
     try
     {
-        det->addTemplates(box(1400.f), "wall", sampler, K, size);
+        det->addTemplates(closedCube(700.f), "wall", sampler, K, size);
         ADD_FAILURE() << "a box covering the frame gave templates";
     }
     catch (const cv::Exception& e)

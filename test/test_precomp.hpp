@@ -44,6 +44,25 @@ inline void expectSameMatches(const std::vector<cv::linemod::Match>& a,
     }
 }
 
+/** A closed cube of side 2 h centred at the origin, its faces turning counter-clockwise seen from
+outside (two triangles per side), grey, with normals. */
+inline Mesh closedCube(float h)
+{
+    Mesh m;
+    for (int c = 0; c < 8; ++c)
+        m.vertices.push_back(cv::Point3f(c & 1 ? h : -h, c & 2 ? h : -h, c & 4 ? h : -h));
+    const int quads[6][4] = { { 0, 2, 3, 1 }, { 4, 5, 7, 6 }, { 0, 1, 5, 4 },
+                              { 2, 6, 7, 3 }, { 0, 4, 6, 2 }, { 1, 3, 7, 5 } };
+    for (int q = 0; q < 6; ++q)
+    {
+        m.faces.push_back(cv::Vec3i(quads[q][0], quads[q][1], quads[q][2]));
+        m.faces.push_back(cv::Vec3i(quads[q][0], quads[q][2], quads[q][3]));
+    }
+    m.colors.assign(8, cv::Vec3b(128, 128, 128));
+    m.computeNormals();
+    return m;
+}
+
 /** A temporary folder (cv::tempfile, `suffix` in its name), removed with what it holds at the
 end of the test. */
 struct TempDir

@@ -162,25 +162,6 @@ TEST(Forestmod_Silhouette, outline_follows_the_drawn_mask)
     EXPECT_GE(cut, 3);
 }
 
-// A closed cube (side 2 h, centred at the origin, faces turning counter-clockwise seen from
-// outside).
-static Mesh cube(float h)
-{
-    Mesh m;
-    for (int c = 0; c < 8; ++c)
-        m.vertices.push_back(Point3f(c & 1 ? h : -h, c & 2 ? h : -h, c & 4 ? h : -h));
-    const int quads[6][4] = { { 0, 2, 3, 1 }, { 4, 5, 7, 6 }, { 0, 1, 5, 4 },
-                              { 2, 6, 7, 3 }, { 0, 4, 6, 2 }, { 1, 3, 7, 5 } };
-    for (int q = 0; q < 6; ++q)
-    {
-        m.faces.push_back(Vec3i(quads[q][0], quads[q][1], quads[q][2]));
-        m.faces.push_back(Vec3i(quads[q][0], quads[q][2], quads[q][3]));
-    }
-    m.colors.assign(8, Vec3b(128, 128, 128));
-    m.computeNormals();
-    return m;
-}
-
 // A closed prism of height h over an L of three squares of side a (corners (0, 0), (2a, 0),
 // (2a, a), (a, a), (a, 2a), (0, 2a) counter-clockwise: vertices 0-5 at z = 0, 6-11 at z = h),
 // faces turning counter-clockwise seen from outside. Its one concave edge joins vertices 3 and 9.
@@ -253,7 +234,7 @@ TEST(Forestmod_Silhouette, concave_prism_outline_follows_the_drawing)
 TEST(Forestmod_Silhouette, cube_outline_lies_on_its_edges)
 {
     const float h = 50.f;
-    const Mesh box = cube(h);
+    const Mesh box = closedCube(h);
     const int winding = fd::closedWinding(box);
     ASSERT_EQ(winding, 1);
     const fd::SilhouetteEdges edges = fd::silhouetteEdges(box, winding);
@@ -323,8 +304,8 @@ TEST(Forestmod_Silhouette, cube_outline_lies_on_its_edges)
 TEST(Forestmod_Silhouette, the_nearer_edge_on_a_pixel_gives_the_point)
 {
     const float h = 40.f;
-    Mesh two = cube(h);
-    const Mesh back = cube(1.99f * h);
+    Mesh two = closedCube(h);
+    const Mesh back = closedCube(1.99f * h);
     for (size_t f = 0; f < back.faces.size(); ++f)
         two.faces.push_back(back.faces[f] + Vec3i::all(8));
     for (size_t v = 0; v < back.vertices.size(); ++v)
@@ -381,7 +362,7 @@ TEST(Forestmod_Silhouette, open_square_outline_is_its_border)
 // mesh raise.
 TEST(Forestmod_Silhouette, poses_and_meshes_without_an_outline)
 {
-    const Mesh box = cube(40.f);
+    const Mesh box = closedCube(40.f);
     Mesh open = box;
     open.faces.pop_back();
     EXPECT_EQ(fd::closedWinding(open), 0);
