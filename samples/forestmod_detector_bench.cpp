@@ -32,6 +32,7 @@ using cv::forestmod::samples::rotationAngleDeg;
 
 using namespace cv;
 using namespace cv::forestmod;
+using cv::forestmod::samples::sourcesOf;
 
 static const char* keys
     = "{help h usage ? |         | print this message }"
@@ -99,15 +100,6 @@ static bool evaluate(const std::vector<PoseMatch>& matches, const String& cls,
     const Point2d centre = Point2d(m->x, m->y) + ti.centre_offset;
     const Matx33d on_axis = rayRotation(K, scene.center).t() * scene.R;
     return cv::norm(centre - scene.center) <= 10.0 && rotationAngleDeg(ti.R, on_axis) <= 25.0;
-}
-
-static std::vector<Mat> sourcesOf(const std::vector<Ptr<linemod::Modality> >& mods,
-                                  const Mat& color, const Mat& depth)
-{
-    std::vector<Mat> src;
-    for (size_t i = 0; i < mods.size(); ++i)
-        src.push_back(mods[i]->name() == "DepthNormal" ? depth : color);
-    return src;
 }
 
 int main(int argc, char** argv)

@@ -100,6 +100,17 @@ inline bool refuseOutput(const char* tool, const std::string& path, bool force)
     return false;
 }
 
+/** A detector's sources for an image and its depth, one per modality: the depth for DepthNormal,
+the image otherwise. */
+inline std::vector<Mat> sourcesOf(const std::vector<Ptr<cv::linemod::Modality> >& mods,
+                                  const Mat& color, const Mat& depth)
+{
+    std::vector<Mat> src;
+    for (size_t i = 0; i < mods.size(); ++i)
+        src.push_back(mods[i]->name() == "DepthNormal" ? depth : color);
+    return src;
+}
+
 /** cv::linemod::Detector with exactly the templates (and modality objects) of a forestmod one,
 for comparisons on the same templates. */
 inline Ptr<cv::linemod::Detector> linemodCopy(const Detector& det)

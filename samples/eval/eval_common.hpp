@@ -236,6 +236,7 @@ cv::Ptr<fm::Detector> objectTemplates(const EvalOptions& opt, ObjectInfo& obj,
                                       double& render_s);
 
 using cv::forestmod::samples::linemodCopy;
+using cv::forestmod::samples::sourcesOf;
 
 /** Loads the cached untrained templates of several objects into one detector. */
 cv::Ptr<fm::Detector> multiObjectDetector(const EvalOptions& opt,

@@ -119,18 +119,12 @@ double GroundTruthTemplates::similarity(const fm::Detector& like, const ObjectIn
     fm::DetectorParams exhaustive; // every position scored: the similarity itself
     exhaustive.exhaustive_ratio = 0.f;
     fm::Detector one(mods, T, exhaustive);
-    std::vector<cv::Mat> drawn, scene;
-    for (size_t m = 0; m < mods.size(); ++m)
-    {
-        const bool d = mods[m]->name() == "DepthNormal";
-        drawn.push_back(d ? depth : color);
-        scene.push_back(d ? f.depth : f.rgb);
-    }
     double best = std::numeric_limits<double>::quiet_NaN();
-    if (cv::countNonZero(mask) > 0 && one.addTemplate(drawn, "gt", mask, gt.R, gt.t, f.K) >= 0)
+    if (cv::countNonZero(mask) > 0
+        && one.addTemplate(sourcesOf(mods, color, depth), "gt", mask, gt.R, gt.t, f.K) >= 0)
     {
         std::vector<cv::linemod::Match> matches;
-        one.match(scene, 50.f, matches);
+        one.match(sourcesOf(mods, f.rgb, f.depth), 50.f, matches);
         const cv::linemod::Template& t0 = one.getTemplates("gt", 0)[0];
         for (size_t i = 0; i < matches.size(); ++i)
             if (fm::boxIoU(cv::Rect2d(matches[i].x, matches[i].y, t0.width, t0.height), gt_box)
@@ -283,14 +277,6 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     scoreHypotheses(top, *gt, f, obj, use_depth, *verified, rec, true);
 }
 
-static std::vector<cv::Mat> sourcesOf(const std::vector<cv::Ptr<cv::linemod::Modality> >& mods,
-                                      const EvalFrame& f)
-{
-    std::vector<cv::Mat> s;
-    for (size_t m = 0; m < mods.size(); ++m)
-        s.push_back(mods[m]->name() == "DepthNormal" ? f.depth : f.rgb);
-    return s;
-}
 
 // the matcher's times and counters of a result, for its verified twin
 static void copyTimes(const Result& r, Result& v)
@@ -323,7 +309,7 @@ void runForestmod(const fm::Detector& det, const std::vector<ObjectInfo*>& objs,
         const EvalFrame& f = (*ctx.frames)[i];
         if (!frameFor(f, object_index))
             continue;
-        const std::vector<cv::Mat> sources = sourcesOf(mods, f);
+        const std::vector<cv::Mat> sources = sourcesOf(mods, f.rgb, f.depth);
         fm::DetectionStats best;
         double best_ms = std::numeric_limits<double>::infinity();
         std::vector<cv::linemod::Match> matches;
@@ -402,7 +388,7 @@ void runLinemod(const cv::linemod::Detector& lm, const fm::Detector* posedet,
         const EvalFrame& f = (*ctx.frames)[i];
         if (!frameFor(f, object_index))
             continue;
-        const std::vector<cv::Mat> sources = sourcesOf(mods, f);
+        const std::vector<cv::Mat> sources = sourcesOf(mods, f.rgb, f.depth);
         std::vector<cv::linemod::Match> matches;
         double best_ms = std::numeric_limits<double>::infinity();
         double quant_ms = best_ms;
