@@ -26,7 +26,7 @@ DetectorParams::DetectorParams()
     : grid_size(12), dominant_window(3), group_size_ratio(1.3f), group_templates(true),
       auto_depth_leaf_samples(8.f), use_forest(true), location_step(0), min_window_labels(0.5f),
       depth_range_tolerance(0.25f), breadth_first(true), chunk_size(16), alpha(0.5f),
-      max_survivors(1),
+      max_survivors(2),
       exhaustive_ratio(0.01f), min_forest_templates(64),
       depth_samples(63), depth_tolerance(5), nms_iou(0.5f)
 {

@@ -330,6 +330,7 @@ TEST(Forestmod_Detector, exhaustive_groups_keep_the_best_of_the_exhaustive_searc
         DetectorParams p;
         p.use_forest = false;
         p.nms_iou = 0.f;
+        p.max_survivors = 1; // 4 of the 10 templates per position: the lists must cut
         cv::forestmod::Detector det(mods, Tpyr(), p);
         addObjectTemplates(det, 10, "L", 0);
         if (variant == 1)
@@ -349,8 +350,8 @@ TEST(Forestmod_Detector, exhaustive_groups_keep_the_best_of_the_exhaustive_searc
         det.setParams(p);
         det.match(sources, 60.f, got);
         ASSERT_FALSE(got.empty()) << variant;
-        // at most (T / step)^2 = 4 matches per position of the T grid of the coarsest level
-        // (320 x 240, T = 8, step 4), as many as the forest path's locations there
+        // at most max_survivors x (T / step)^2 = 4 matches per position of the T grid of the
+        // coarsest level (320 x 240, T = 8, step 4), as many as the forest path's locations there
         EXPECT_LE(got.size(), (size_t)(4 * 40 * 30)) << variant;
         EXPECT_LT(got.size(), ref.size()) << variant;
         const std::vector<Vec3f> a = places(ref), b = places(got);
