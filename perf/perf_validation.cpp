@@ -200,7 +200,7 @@ PERF_TEST_P(Forestmod_ValidationForestPath, per_pair,
             cands.begin.push_back(static_cast<int>(cands.rows.size()));
         }
     forestmod::DetectorParams params;
-    params.max_survivors = 1; // the paper's breadth-first validation, as doc/detector.md measures it
+    params.max_survivors = 1; // the paper's, as doc/detector.md measures it
     const std::vector<uchar> row_allowed(n, 1);
     std::vector<linemod::Match> coarse;
     TEST_CYCLE() validateLocations(scene, cands, index, pyramids, params, 10.f, row_allowed,
