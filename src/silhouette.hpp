@@ -54,11 +54,11 @@ projection is nearest the pixel (pixel centres at integer coordinates, as drawMe
 them), moved half a pixel into the outline at its depth across the line of sight (where the
 boundary pixels of drawMesh()'s mask lie on average), and the outline's normal there (between the
 pixels two before and two after it): the boundary of drawMesh()'s mask to within a pixel, without
-drawing the faces. `pts` is empty when a
-corner of the bounding box lies behind the camera or the object does not project into the
-image. Returns false, without points, when the projected bounding box is more than twice the
-image's width or height (the buffers would be: draw the object instead). The edges must be this
-mesh's (their planes one per face). */
+drawing the faces. Returns true with `pts` empty when a corner of the bounding box lies behind
+the camera or the object does not project into the image; returns false, without points, when the
+projected bounding box is more than twice the image's width or height (its buffers would be larger
+than a drawing's crop: draw the object instead). The edges must be this mesh's (their planes one
+per face). */
 CV_EXPORTS bool meshSilhouette(const Mesh& mesh, const SilhouetteEdges& edges, const Matx33d& K,
                                const Matx33d& R, const Vec3d& t, Size image, int max_points,
                                std::vector<SilhouettePoint>& pts);

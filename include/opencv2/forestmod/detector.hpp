@@ -284,8 +284,8 @@ struct CV_EXPORTS_W_SIMPLE PoseParams
     /** Of a detection's rgb_hypotheses matches, those whose edge fit is among the rgb_keep best
     after the refinement's first pass go on to its other passes; the others keep their
     template's pose. On LM-O's tuning frames 4 of 16 gave a higher projection recall than all of
-    8 refined fully, in about the same time, and 4 of 24 more than 6 of 16 (doc/pose.md). >= rgb_hypotheses refines every match
-    fully. Default 4. */
+    8 refined fully, in about the same time, and 4 of 24 more than 6 of 16 (doc/pose.md).
+    >= rgb_hypotheses refines every match fully. Default 4. */
     CV_PROP_RW int rgb_keep;
 
     void read(const FileNode& fn);
