@@ -173,6 +173,24 @@ static void makeDataset(const std::string& root, int frames)
 }
 
 /** The sample writes its JSON with cv::FileStorage: it must read back with it as it is. */
+// A rendered dataset in a temporary folder (make() writes it) and forestmod_eval's command on
+// it: scene 1, views of level 0 from 0 degrees up at 700 mm, the templates cached in the folder;
+// `flags` adds the rest.
+struct EvalOnDataset
+{
+    explicit EvalOnDataset(const std::string& name) : tmp(name), dir(tmp.path), root(dir + "/data")
+    {
+    }
+    void make(int frames) const { makeDataset(root, frames); }
+    std::string command(const std::string& flags) const
+    {
+        return "'" + samplePath("forestmod_eval") + "' --dataset='" + root + "' --scene=1 "
+               "--level=0 --min_elevation=0 --radii=700 --cache='" + dir + "/cache' " + flags;
+    }
+    const TempDir tmp;
+    const std::string dir, root;
+};
+
 static cv::FileStorage readJson(const std::string& path)
 {
     return cv::FileStorage(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
@@ -279,15 +297,12 @@ static void checkPerFrame(const cv::FileNode& r, int frames, bool with_depth,
 
 TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
 {
-    const std::string eval = samplePath("forestmod_eval");
-    const TempDir tmp("forestmod_eval");
-    const std::string& dir = tmp.path;
-    const std::string root = dir + "/data";
-    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 5));
+    const EvalOnDataset data("forestmod_eval");
+    const std::string& dir = data.dir;
+    ASSERT_NO_FATAL_FAILURE(data.make(5));
     const std::string json = dir + "/out.json";
-    const std::string cmd = "'" + eval + "' --dataset='" + root + "' --scene=1 --level=0 "
-        "--min_elevation=0 --radii=700 --inplane=0,0,15 --threshold=70 --sweep=none --cache='"
-        + dir + "/cache' --json='" + json + "' --heatmap='" + dir + "/heat' --heatmap_frames=2";
+    const std::string cmd = data.command("--inplane=0,0,15 --threshold=70 --sweep=none --json='"
+        + json + "' --heatmap='" + dir + "/heat' --heatmap_frames=2");
     std::string out, err;
     ASSERT_EQ(0, run(cmd, dir, out, err)) << out << err;
     EXPECT_NE(std::string::npos, out.find("## Table 1")) << out;
@@ -387,14 +402,12 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
 // has no such similarity.
 TEST(Forestmod_Eval, ground_truth_template_similarity_on_a_rendered_dataset)
 {
-    const std::string eval = samplePath("forestmod_eval");
-    const TempDir tmp("forestmod_eval_gt_similarity");
-    const std::string& dir = tmp.path;
-    const std::string root = dir + "/data";
-    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 3));
-    const std::string common = "'" + eval + "' --dataset='" + root + "' --scene=1 --objects=1 "
-        "--no_multi --five_trees=false --level=0 --min_elevation=0 --radii=700 "
-        "--inplane=0,0,15 --threshold=70 --sweep=none --repeat=1 --cache='" + dir + "/cache'";
+    const EvalOnDataset data("forestmod_eval_gt_similarity");
+    const std::string& dir = data.dir;
+    ASSERT_NO_FATAL_FAILURE(data.make(3));
+    const std::string common = data.command("--objects=1 --no_multi --five_trees=false "
+                                            "--inplane=0,0,15 --threshold=70 --sweep=none "
+                                            "--repeat=1");
     for (int with = 0; with < 2; ++with)
     {
         const std::string json = cv::format("%s/out%d.json", dir.c_str(), with);
@@ -438,15 +451,12 @@ TEST(Forestmod_Eval, ground_truth_template_similarity_on_a_rendered_dataset)
 // runs do not use), and skipping them all is an error that says so.
 TEST(Forestmod_Eval, first_frame_skips_the_first_frames)
 {
-    const std::string eval = samplePath("forestmod_eval");
-    const TempDir tmp("forestmod_eval_first_frame");
-    const std::string& dir = tmp.path;
-    const std::string root = dir + "/data";
-    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 3));
+    const EvalOnDataset data("forestmod_eval_first_frame");
+    const std::string& dir = data.dir;
+    ASSERT_NO_FATAL_FAILURE(data.make(3));
     const std::string json = dir + "/out.json";
-    const std::string common = "'" + eval + "' --dataset='" + root + "' --scene=1 --objects=1 "
-        "--no_multi --five_trees=false --level=0 --min_elevation=0 --radii=700 "
-        "--inplane=0,0,15 --sweep=none --repeat=1 --cache='" + dir + "/cache'";
+    const std::string common = data.command("--objects=1 --no_multi --five_trees=false "
+                                            "--inplane=0,0,15 --sweep=none --repeat=1");
     std::string out, err;
     ASSERT_EQ(0, run(common + " --first_frame=2 --json='" + json + "'", dir, out, err))
         << out << err;
@@ -463,17 +473,14 @@ TEST(Forestmod_Eval, first_frame_skips_the_first_frames)
 
 TEST(Forestmod_Eval, synthetic_scenes_give_add)
 {
-    const std::string eval = samplePath("forestmod_eval");
-    const TempDir tmp("forestmod_eval_synthetic");
-    const std::string& dir = tmp.path;
-    const std::string root = dir + "/data";
-    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 2));
+    const EvalOnDataset data("forestmod_eval_synthetic");
+    const std::string& dir = data.dir;
+    ASSERT_NO_FATAL_FAILURE(data.make(2));
     const std::string json = dir + "/out.json";
     std::string out, err;
-    ASSERT_EQ(0, run("'" + eval + "' --dataset='" + root + "' --scene=1 --objects=1 --synthetic=2 "
-                     "--no_multi --level=0 --min_elevation=0 --radii=700 --inplane=0,0,15 "
-                     "--sweep=none --repeat=1 --cache='"
-                     + dir + "/cache' --json='" + json + "'", dir, out, err)) << out << err;
+    ASSERT_EQ(0, run(data.command("--objects=1 --synthetic=2 --no_multi --inplane=0,0,15 "
+                                  "--sweep=none --repeat=1 --json='" + json + "'"),
+                     dir, out, err)) << out << err;
     EXPECT_NE(std::string::npos, out.find("ColorGradient + DepthNormal + ColorHue")) << out;
     cv::FileStorage fs = readJson(json);
     ASSERT_TRUE(fs.isOpened());
@@ -589,17 +596,14 @@ static int checkSweep(const cv::FileNode& sweep, const char* key, const std::str
 
 TEST(Forestmod_Eval, sweeps_write_json_and_plots)
 {
-    const std::string eval = samplePath("forestmod_eval");
-    const TempDir tmp("forestmod_eval_sweeps");
-    const std::string& dir = tmp.path;
-    const std::string root = dir + "/data";
-    ASSERT_NO_FATAL_FAILURE(makeDataset(root, 2));
+    const EvalOnDataset data("forestmod_eval_sweeps");
+    const std::string& dir = data.dir;
+    ASSERT_NO_FATAL_FAILURE(data.make(2));
     const std::string plots = dir + "/plots", json = dir + "/out.json";
     // 6 views x 5 in-plane angles = 30 poses: 40 templates need a denser sampler (level 1)
-    const std::string cmd = "'" + eval + "' --dataset='" + root + "' --scene=1 --tables=false "
-        "--level=0 --min_elevation=0 --radii=700 --inplane=-30,30,15 --threshold=70 "
+    const std::string cmd = data.command("--tables=false --inplane=-30,30,15 --threshold=70 "
         "--sweep=all --sweep_templates=40,5,15 --sweep_classes=1,2,3 --sweep_per_class=6 "
-        "--repeat=1 --cache='" + dir + "/cache' --plots='" + plots + "' --json='" + json + "'";
+        "--repeat=1 --plots='" + plots + "' --json='" + json + "'");
     std::string out, err;
     ASSERT_EQ(0, run(cmd, dir, out, err)) << out << err;
     EXPECT_NE(std::string::npos, out.find("## Scaling with templates")) << out;
