@@ -172,7 +172,6 @@ static void makeDataset(const std::string& root, int frames)
     std::ofstream((scene + "/scene_gt_info.json").c_str()) << info_json << "}\n";
 }
 
-/** The sample writes its JSON with cv::FileStorage: it must read back with it as it is. */
 // A rendered dataset in a temporary folder (make() writes it) and forestmod_eval's command on
 // it: scene 1, views of level 0 from 0 degrees up at 700 mm, the templates cached in the folder;
 // `flags` adds the rest.
@@ -191,6 +190,7 @@ struct EvalOnDataset
     const std::string dir, root;
 };
 
+/** The sample writes its JSON with cv::FileStorage: it must read back with it as it is. */
 static cv::FileStorage readJson(const std::string& path)
 {
     return cv::FileStorage(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);

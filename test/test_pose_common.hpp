@@ -166,7 +166,6 @@ inline double rotationErrorDeg(const Matx33d& Ra, const Matx33d& Rb)
     return std::acos(c) * 180.0 / CV_PI;
 }
 
-/** The LM-O camera (BOP lmo camera.json). */
 /** Views of `mesh` from a level-1 hemisphere at these distances (mm), looking at its centre (the
 default sampler's elevations and in-plane rotations). */
 inline std::vector<ViewPose> hemisphereViews(const Mesh& mesh, const std::vector<double>& radii)

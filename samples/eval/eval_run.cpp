@@ -277,7 +277,6 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     scoreHypotheses(top, *gt, f, obj, use_depth, *verified, rec, true);
 }
 
-
 // the matcher's times and counters of a result, for its verified twin
 static void copyTimes(const Result& r, Result& v)
 {
