@@ -204,9 +204,9 @@ static int objectHueLabels(const fm::Detector& det, const cv::String& cls, bool 
 // --hue_windows: windows of the object's ground-truth box size at every position of the coarsest
 // level's T grid (`cell` level-0 pixels), each with the share of its pixels whose quantized hue
 // (level 0) is one of the object's labels (objectHueLabels). Per share threshold: the windows
-// below it (rejected), the vectors of 32 consecutive positions (the exhaustive search's, row by
-// row) that lie below it whole, and the frames where a window within one cell of the object's
-// box passes it.
+// below it (rejected), the vectors of 32 consecutive positions in row-major order (as the
+// exhaustive search's, without its wrapped row ends) that lie below it whole, and the frames where
+// one of the 4 windows at the object's box corner passes it.
 static void hueWindowStats(const fm::Detector& det, const std::vector<fm::Frame>& frames,
                            int first, int last, int obj_id, int cell, bool neighbours)
 {
