@@ -170,18 +170,10 @@ struct Occupancy
 
 // The hue labels (bits of the quantized image, 0 for "no hue") that the class's templates'
 // ColorHue features carry on at least 3 % of them (with `neighbours`, each one's neighbours on the
-// hue circle too); "no hue" alone for a class without hue features. -1 without a ColorHue
-// modality.
-static int objectHueLabels(const fm::Detector& det, const cv::String& cls, bool neighbours,
-                           int& modality)
+// hue circle too); "no hue" alone for a class without hue features.
+static int objectHueLabels(const fm::Detector& det, const cv::String& cls, int modality,
+                           bool neighbours)
 {
-    const std::vector<cv::Ptr<cv::linemod::Modality> > mods = det.getModalities();
-    modality = -1;
-    for (size_t m = 0; m < mods.size(); ++m)
-        if (mods[m]->name() == "ColorHue")
-            modality = (int)m;
-    if (modality < 0)
-        return -1;
     std::vector<double> count(8, 0.);
     double total = 0;
     for (int id = 0; id < det.numTemplates(cls); ++id)
@@ -191,35 +183,50 @@ static int objectHueLabels(const fm::Detector& det, const cv::String& cls, bool 
             count[f[k].label & 7] += 1;
         total += (double)f.size();
     }
-    if (total == 0)
-        return 0;
     int labels = 0;
-    for (int b = 0; b < 8; ++b)
+    for (int b = 0; b < 8 && total > 0; ++b)
         if (count[b] >= 0.03 * total)
             labels |= neighbours ? (1 << b) | (1 << ((b + 1) & 7)) | (1 << ((b + 7) & 7))
                                  : 1 << b;
     return labels;
 }
 
+// What --hue_windows counts for one set of labels, per share threshold.
+struct HueTally
+{
+    enum { N = 5 };
+    int labels;
+    double rejected[N], vectors_out[N], kept[N];
+    explicit HueTally(int labels_) : labels(labels_)
+    {
+        for (int t = 0; t < N; ++t)
+            rejected[t] = vectors_out[t] = kept[t] = 0;
+    }
+};
+
 // --hue_windows: windows of the object's ground-truth box size at every position of the coarsest
 // level's T grid (`cell` level-0 pixels), each with the share of its pixels whose quantized hue
-// (level 0) is one of the object's labels (objectHueLabels). Per share threshold: the windows
-// below it (rejected), the vectors of 32 consecutive positions in row-major order (as the
-// exhaustive search's, without its wrapped row ends) that lie below it whole, and the frames where
-// one of the 4 windows at the object's box corner passes it.
+// (level 0) is one of the object's labels (objectHueLabels: the labels alone, then with their
+// neighbours). Per share threshold: the windows below it (rejected), the vectors of 32
+// consecutive positions in row-major order (as the exhaustive search's, without its wrapped row
+// ends) that lie below it whole, and the frames where one of the 4 windows at the object's box
+// corner passes it.
 static void hueWindowStats(const fm::Detector& det, const std::vector<fm::Frame>& frames,
-                           int first, int last, int obj_id, int cell, bool neighbours)
+                           int first, int last, int obj_id, int cell)
 {
+    const std::vector<cv::Ptr<cv::linemod::Modality> > mods = det.getModalities();
     int m = -1;
-    const int labels = objectHueLabels(det, det.classIds()[0], neighbours, m);
-    if (labels < 0)
+    for (size_t k = 0; k < mods.size(); ++k)
+        if (mods[k]->name() == "ColorHue")
+            m = (int)k;
+    if (m < 0)
     {
         std::cerr << "forestmod_reject_probe: --hue_windows needs a ColorHue modality\n";
         return;
     }
-    const double thr[] = { 0.05, 0.1, 0.15, 0.2, 0.3 };
-    const int n_thr = 5;
-    std::vector<double> rejected(n_thr, 0.), vectors_out(n_thr, 0.), kept(n_thr, 0.);
+    const double thr[HueTally::N] = { 0.05, 0.1, 0.15, 0.2, 0.3 };
+    HueTally tally[2] = { HueTally(objectHueLabels(det, det.classIds()[0], m, false)),
+                          HueTally(objectHueLabels(det, det.classIds()[0], m, true)) };
     double windows = 0, vectors = 0;
     int object_frames = 0;
     for (int i = first; i < last; ++i)
@@ -230,61 +237,64 @@ static void hueWindowStats(const fm::Detector& det, const std::vector<fm::Frame>
                 gt = &frames[i].gt[k];
         if (!gt || gt->bbox_obj.area() <= 0)
             continue;
-        cv::Mat q, ok, sum;
-        det.getModalities()[m]->process(frames[i].rgb())->quantize(q);
-        if (labels == 0)
-            ok = q == 0;
-        else
-        {
-            cv::bitwise_and(q, cv::Scalar(labels), ok);
-            ok = ok != 0;
-        }
-        cv::integral(ok / 255, sum, CV_32S);
+        cv::Mat q;
+        mods[m]->process(frames[i].rgb())->quantize(q);
         const cv::Rect box = gt->bbox_obj & cv::Rect(0, 0, q.cols, q.rows);
         const int cx = (q.cols - box.width) / cell + 1, cy = (q.rows - box.height) / cell + 1;
         if (box.area() <= 0 || cx <= 0 || cy <= 0)
             continue;
         ++object_frames;
-        std::vector<double> share((size_t)cx * cy);
-        for (int y = 0; y < cy; ++y)
-            for (int x = 0; x < cx; ++x)
-            {
-                const int x0 = x * cell, y0 = y * cell, x1 = x0 + box.width, y1 = y0 + box.height;
-                share[(size_t)y * cx + x] = (sum.at<int>(y1, x1) - sum.at<int>(y0, x1)
-                                             - sum.at<int>(y1, x0) + sum.at<int>(y0, x0))
-                                            / (double)box.area();
-            }
-        windows += (double)share.size();
-        vectors += (double)((share.size() + 31) / 32);
-        for (int t = 0; t < n_thr; ++t)
+        windows += (double)cx * cy;
+        vectors += (double)((cx * cy + 31) / 32);
+        for (HueTally& h : tally)
         {
-            for (size_t v = 0; v < share.size(); v += 32)
-            {
-                int below = 0;
-                const size_t e = std::min(share.size(), v + 32);
-                for (size_t k = v; k < e; ++k)
-                    below += share[k] < thr[t];
-                rejected[t] += below;
-                vectors_out[t] += below == (int)(e - v);
-            }
-            bool near = false;
-            for (int dy = 0; dy <= 1; ++dy)
-                for (int dx = 0; dx <= 1; ++dx)
+            cv::Mat ok, sum;
+            if (h.labels == 0)
+                ok = q == 0;
+            else
+                cv::bitwise_and(q, cv::Scalar(h.labels), ok);
+            cv::integral(ok != 0, sum, CV_32S); // 255 per pixel with one of the labels
+            std::vector<double> share((size_t)cx * cy);
+            for (int y = 0; y < cy; ++y)
+                for (int x = 0; x < cx; ++x)
                 {
-                    const int x = std::min(cx - 1, box.x / cell + dx);
-                    const int y = std::min(cy - 1, box.y / cell + dy);
-                    near = near || share[(size_t)y * cx + x] >= thr[t];
+                    const int x0 = x * cell, y0 = y * cell;
+                    const int x1 = x0 + box.width, y1 = y0 + box.height;
+                    share[(size_t)y * cx + x] = (sum.at<int>(y1, x1) - sum.at<int>(y0, x1)
+                                                 - sum.at<int>(y1, x0) + sum.at<int>(y0, x0))
+                                                / (255. * box.area());
                 }
-            kept[t] += near;
+            for (int t = 0; t < HueTally::N; ++t)
+            {
+                for (size_t v = 0; v < share.size(); v += 32)
+                {
+                    int below = 0;
+                    const size_t e = std::min(share.size(), v + 32);
+                    for (size_t k = v; k < e; ++k)
+                        below += share[k] < thr[t];
+                    h.rejected[t] += below;
+                    h.vectors_out[t] += below == (int)(e - v);
+                }
+                bool near = false;
+                for (int dy = 0; dy <= 1; ++dy)
+                    for (int dx = 0; dx <= 1; ++dx)
+                        near = near || share[(size_t)std::min(cy - 1, box.y / cell + dy) * cx
+                                             + std::min(cx - 1, box.x / cell + dx)] >= thr[t];
+                h.kept[t] += near;
+            }
         }
     }
-    printf("the object's hue labels%s (0x%02x):\n", neighbours ? " and their neighbours" : "",
-           labels);
-    for (int t = 0; t < n_thr; ++t)
-        printf("  hue share >= %.2f: windows rejected %.1f %%, 32-position vectors rejected whole "
-               "%.1f %%, object kept in %.0f / %d frames\n", thr[t],
-               100. * rejected[t] / std::max(1., windows),
-               100. * vectors_out[t] / std::max(1., vectors), kept[t], object_frames);
+    for (int v = 0; v < 2; ++v)
+    {
+        printf("the object's hue labels%s (0x%02x):\n", v ? " and their neighbours" : "",
+               tally[v].labels);
+        for (int t = 0; t < HueTally::N; ++t)
+            printf("  hue share >= %.2f: windows rejected %.1f %%, 32-position vectors rejected "
+                   "whole %.1f %%, object kept in %.0f / %d frames\n", thr[t],
+                   100. * tally[v].rejected[t] / std::max(1., windows),
+                   100. * tally[v].vectors_out[t] / std::max(1., vectors), tally[v].kept[t],
+                   object_frames);
+    }
 }
 
 // The model (RGB, one class); empty with a message when it does not fit the probe.
@@ -415,10 +425,9 @@ static int probe(int argc, char** argv)
     const int last = count > 0 ? std::min((int)frames.size(), first + count) : (int)frames.size();
     if (parser.has("absence"))
         absenceStats(det, frames, first, last, obj_id, parser.get<float>("weak_threshold"));
-    for (int neighbours = 0; neighbours < 2 && parser.has("hue_windows"); ++neighbours)
+    if (parser.has("hue_windows"))
         hueWindowStats(det, frames, first, last, obj_id,
-                       det.getT(det.pyramidLevels() - 1) << (det.pyramidLevels() - 1),
-                       neighbours != 0);
+                       det.getT(det.pyramidLevels() - 1) << (det.pyramidLevels() - 1));
     const int L = det.pyramidLevels() - 1;
     int n = 0, with_gt = 0, hits = 0, kept = 0;
     Occupancy before_forest, forest;

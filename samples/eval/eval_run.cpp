@@ -38,16 +38,16 @@ static cv::Rect2d groundTruthBox(const fm::GroundTruth& gt, const EvalFrame& f,
     return box.area() > 0 ? box : projectedBox(obj.pts, f.K, gt.R, gt.t);
 }
 
-/** Scores one hypothesis (or none) of an object against its ground truth into res and rec.
-top: the hypotheses in rank order, for recall@10. record: their features into rec.hyps. */
+/** Scores one hypothesis (or none) of an object against its ground truth (gt_box: its box,
+groundTruthBox) into res and rec. top: the hypotheses in rank order, for recall@10. record: their
+features into rec.hyps. */
 static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::GroundTruth& gt,
-                            const EvalFrame& f, const ObjectInfo& obj, bool use_depth,
-                            Result& res, FrameRecord& rec, bool record = false)
+                            const cv::Rect2d& gt_box, const EvalFrame& f, const ObjectInfo& obj,
+                            bool use_depth, Result& res, FrameRecord& rec, bool record = false)
 {
     ++res.n2d;
     if (use_depth)
         ++res.nadd;
-    const cv::Rect2d gt_box = groundTruthBox(gt, f, obj);
     bool hit2d = false, hitproj = false;
     for (size_t k = 0; k < top.size(); ++k)
     {
@@ -265,7 +265,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     rec.gt_similarity = nan;
     if (ctx.gt)
         rec.gt_similarity = ctx.gt->similarity(posedet, obj, f, *gt, on_object);
-    scoreHypotheses(top, *gt, f, obj, use_depth, res, rec);
+    scoreHypotheses(top, *gt, on_object, f, obj, use_depth, res, rec);
     if (!verified)
         return;
     fm::DetectionStats stats;
@@ -274,7 +274,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     else if (!top.empty())
         posedet.verify(f.rgb, use_depth ? f.depth : cv::Mat(), f.K, top, ctx.verify, &stats);
     verified->verify.push_back(stats.t_verify_ms);
-    scoreHypotheses(top, *gt, f, obj, use_depth, *verified, rec, true);
+    scoreHypotheses(top, *gt, on_object, f, obj, use_depth, *verified, rec, true);
 }
 
 // the matcher's times and counters of a result, for its verified twin
