@@ -853,9 +853,10 @@ bool depthNormalLevels(const ModalityInfo& info, const Mat& depth, const Mat& ma
 {
     if (depth.type() != CV_16UC1)
         return false; // what cv::linemod does with other types is its own business
-    // cv::linemod reads the depth as a continuous array of rows x cols from its first pixel
-    // (rows of a ROI of a wider image are then not the ROI's rows): the same here
-    const Mat flat(depth.rows, depth.cols, CV_16U, const_cast<uchar*>(depth.data));
+    // cv::linemod reads the depth as a continuous array of rows x cols from its first pixel, so
+    // a ROI of a wider image gives it other rows than the ROI's; here the ROI's own rows (the
+    // same images as cv::linemod's for a continuous depth, and for a copy of the ROI)
+    const Mat flat = depth.isContinuous() ? depth : depth.clone();
     Mat labels;
     if (!depthNormalLevel0(flat, info, labels))
         return false;

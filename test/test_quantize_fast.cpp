@@ -636,9 +636,16 @@ TEST(Forestmod_QuantizeFast, depth_normals_real_frames)
             expectSameLevels(ms[i], depth, Mat(), 5, files[f], 1000);
             expectSameLevels(ms[i], depth, someMask(depth.size(), 9), 3, files[f] + " masked");
         }
-        // a ROI (cv::linemod reads it as if it were continuous)
+        // a ROI: its own rows, as in a copy of it (cv::linemod reads a ROI's depth as if it were
+        // continuous, from other rows of the wider image)
         const Mat roi = depth(Rect(13, 7, 401, 333));
-        expectSameLevels(ms[0], roi, Mat(), 3, files[f] + " roi", 1000);
+        ASSERT_FALSE(roi.isContinuous());
+        expectSameLevels(ms[0], roi.clone(), Mat(), 3, files[f] + " roi copy", 1000);
+        std::vector<Mat> of_roi, of_copy;
+        ASSERT_TRUE(cv::forestmod::detail::fastQuantize(ms[0], roi, Mat(), 3, of_roi));
+        ASSERT_TRUE(cv::forestmod::detail::fastQuantize(ms[0], roi.clone(), Mat(), 3, of_copy));
+        for (int l = 0; l < 3; ++l)
+            EXPECT_EQ(0, differences(of_roi[l], of_copy[l])) << files[f] << " roi, level " << l;
     }
 }
 
