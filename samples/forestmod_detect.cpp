@@ -274,6 +274,11 @@ int main(int argc, char** argv)
             }
             K = cv::Matx33d(atof(k[0].c_str()), 0, atof(k[2].c_str()), 0, atof(k[1].c_str()),
                             atof(k[3].c_str()), 0, 0, 1);
+            if (!(K(0, 0) > 0) || !(K(1, 1) > 0) || !cv::checkRange(cv::Mat(K)))
+            {
+                std::cerr << "forestmod_detect: --K needs finite numbers, fx and fy > 0\n";
+                return 1;
+            }
         }
         std::vector<std::string> pairs = splitList(meshes_arg, ',');
         for (size_t i = 0; i < pairs.size(); ++i)

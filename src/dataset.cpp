@@ -7,6 +7,7 @@
 #include "precomp.hpp"
 #include "opencv2/imgcodecs.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
+#include "model_check.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -405,10 +406,8 @@ BopResultWriter::BopResultWriter(const String& path, bool overwrite) : path_(pat
 {
     if (path.empty())
         CV_Error(Error::StsBadArg, "BopResultWriter: empty path");
-    if (!overwrite && fs::exists(path))
-        CV_Error_(Error::StsError,
-                  ("BopResultWriter: '%s' exists; pass overwrite = true to replace it",
-                   path.c_str()));
+    // neither an existing file without overwrite nor through a dangling symbolic link
+    detail::checkOutputFile(path, overwrite, "BopResultWriter");
     impl_ = makePtr<Impl>();
     impl_->out.open(path.c_str(), std::ios::out | std::ios::trunc);
     if (!impl_->out)

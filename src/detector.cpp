@@ -134,6 +134,10 @@ static int addOneTemplate(const std::vector<Ptr<Modality> >& modalities, int pyr
     if (!detail::makeTemplate(modalities, impl.roles, pyramid_levels, sources, object_mask,
                               impl.params.depth_samples, tp, record, box))
         return -1;
+    // what load() would refuse is refused here (a saved model must load)
+    detail::checkTemplatePose(record.pose, tp[0],
+                              "forestmod::Detector::addTemplate: class '" + class_id + "'",
+                              Error::StsBadArg);
     if (bounding_box)
         *bounding_box = box;
     AutoLock lock(impl.mutex);
@@ -191,6 +195,11 @@ int Detector::addSyntheticTemplate(const std::vector<Template>& templates, const
         CV_Error_(Error::StsBadArg, ("forestmod::Detector::addSyntheticTemplate: expected %d "
                                      "templates (modalities x pyramid levels), got %d",
                                      M * pyramid_levels, (int)templates.size()));
+    // the checks of load(): labels, feature positions and sizes that the search can index
+    detail::checkTemplatePyramid(templates, M, pyramid_levels,
+                                 "forestmod::Detector::addSyntheticTemplate: class '" + class_id
+                                     + "'",
+                                 Error::StsBadArg);
     AutoLock lock(impl_->mutex);
     impl_->index.clear();
     // no pose, no dense patch (the descriptor comes from the features), no depth samples

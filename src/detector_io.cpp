@@ -271,7 +271,8 @@ static void readRecords(const FileNode& fn, size_t num_modalities, const String&
             if (k == 0)
             {
                 records[i].pose = readPose(*it);
-                detail::checkTemplatePose(records[i].pose, tps[i][0], where);
+                detail::checkTemplatePose(records[i].pose, tps[i][0],
+                                          "forestmod model: " + where);
             }
             else if (k == 1)
                 readPatch(*it, num_modalities, tps[i].back(), where, records[i].patch);
@@ -326,7 +327,8 @@ static void readPyramids(const FileNode& fn, int num_modalities, int pyramid_lev
             detail::checkTemplateNode(*t_it, where);
             tp[k].read(*t_it);
         }
-        detail::checkTemplatePyramid(tp, num_modalities, pyramid_levels, where);
+        detail::checkTemplatePyramid(tp, num_modalities, pyramid_levels,
+                                     "forestmod model: " + where);
         tps.push_back(tp);
     }
 }
@@ -421,11 +423,22 @@ void Detector::readClasses(const std::vector<String>& class_ids, const String& f
     for (size_t i = 0; i < class_ids.size(); ++i)
     {
         const String filename = cv::format(format.c_str(), class_ids[i].c_str());
-        FileStorage fs(filename, FileStorage::READ);
-        if (!fs.isOpened())
-            CV_Error_(Error::StsError, ("forestmod::Detector::readClasses: cannot open '%s'",
-                                        filename.c_str()));
-        readClass(fs.root());
+        FileStorage fs;
+        detail::openModelText(fs, filename, "forestmod::Detector::readClasses");
+        try
+        {
+            readClass(fs.root());
+        }
+        catch (const cv::Exception&)
+        {
+            throw;
+        }
+        catch (const std::exception& e)
+        {
+            CV_Error_(Error::StsParseError, ("forestmod::Detector::readClasses: '%s' is not a "
+                                             "readable class file: %s", filename.c_str(),
+                                             e.what()));
+        }
     }
 }
 
@@ -486,19 +499,7 @@ void Detector::save(const String& filename, bool overwrite) const
 
 static void openModel(FileStorage& fs, const String& filename)
 {
-    const String text = detail::readModelText(filename); // bounded, see model_check.hpp
-    try
-    {
-        fs.open(text, FileStorage::READ | FileStorage::MEMORY);
-    }
-    catch (const cv::Exception& e)
-    {
-        CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is not a readable "
-                                         "model file: %s", filename.c_str(), e.err.c_str()));
-    }
-    if (!fs.isOpened())
-        CV_Error_(Error::StsError, ("forestmod::Detector::load: cannot open '%s'",
-                                    filename.c_str()));
+    detail::openModelText(fs, filename, "forestmod::Detector::load"); // bounded, model_check.hpp
     FileNode v = fs["forestmod_model_version"];
     if (v.empty())
         CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is not a forestmod "
@@ -545,27 +546,30 @@ static std::vector<Ptr<TemplateForest> > readForests(const FileStorage& fs,
 
 void Detector::load(const String& filename)
 {
+    // the file goes into a detector of its own, which replaces this one's contents only once it
+    // is read whole: a file that fails leaves this detector as it was
+    Detector loaded;
     try
     {
         FileStorage fs;
         openModel(fs, filename);
-        read(fs["detector"]);
+        loaded.read(fs["detector"]);
         FileNode classes = fs["classes"];
         if (classes.empty() || !classes.isSeq())
             CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' has no classes",
                                              filename.c_str()));
         for (FileNodeIterator it = classes.begin(); it != classes.end(); ++it)
-            readClass(*it);
+            loaded.readClass(*it);
         // the trained forests are read as they are (training a large model takes minutes); the
         // groups, their windows and the rejection limits are functions of the templates and params
+        detail::DetectorImpl& impl = *loaded.impl_;
         const std::vector<Ptr<TemplateForest> > forests = readForests(fs, filename,
-                                                                      impl_->params.forest);
-        if (forests.empty())
-            return;
-        AutoLock lock(impl_->mutex);
-        const int L = pyramid_levels - 1;
-        impl_->index.attach(class_templates, impl_->store, impl_->params, (int)modalities.size(), L,
-                            T_at_level[L], forests, filename);
+                                                                      impl.params.forest);
+        const int L = loaded.pyramid_levels - 1;
+        if (!forests.empty())
+            impl.index.attach(loaded.class_templates, impl.store, impl.params,
+                              (int)loaded.modalities.size(), L, loaded.T_at_level[L], forests,
+                              filename);
     }
     catch (const cv::Exception&)
     {
@@ -578,6 +582,13 @@ void Detector::load(const String& filename)
         CV_Error_(Error::StsParseError, ("forestmod::Detector::load: '%s' is not a readable "
                                          "model file: %s", filename.c_str(), e.what()));
     }
+    AutoLock lock(impl_->mutex);
+    impl_->poses.swapMeshes(loaded.impl_->poses); // the meshes set before load() stay
+    modalities.swap(loaded.modalities);
+    pyramid_levels = loaded.pyramid_levels;
+    T_at_level.swap(loaded.T_at_level);
+    class_templates.swap(loaded.class_templates);
+    impl_.swap(loaded.impl_);
 }
 
 } // namespace forestmod

@@ -196,18 +196,7 @@ bool TemplateForest::query(const uchar* descriptor, std::vector<int>& candidates
 Ptr<TemplateForest> TemplateForest::load(const String& filename)
 {
     FileStorage fs;
-    try
-    {
-        fs.open(filename, FileStorage::READ);
-    }
-    catch (const cv::Exception& e)
-    {
-        CV_Error_(Error::StsParseError,
-                  ("TemplateForest::load: cannot parse '%s' (truncated or corrupt?): %s",
-                   filename.c_str(), e.what()));
-    }
-    if (!fs.isOpened())
-        CV_Error_(Error::StsError, ("TemplateForest::load: cannot open '%s'", filename.c_str()));
+    detail::openModelText(fs, filename, "TemplateForest::load"); // the guards of Detector::load
     FileNode fn = fs.getFirstTopLevelNode();
     Ptr<TemplateForest> forest = create();
     try
@@ -218,6 +207,11 @@ Ptr<TemplateForest> TemplateForest::load(const String& filename)
     {
         CV_Error_(Error::StsParseError,
                   ("TemplateForest::load: '%s': %s", filename.c_str(), e.err.c_str()));
+    }
+    catch (const std::exception& e)
+    {
+        CV_Error_(Error::StsParseError,
+                  ("TemplateForest::load: '%s': %s", filename.c_str(), e.what()));
     }
     return forest;
 }

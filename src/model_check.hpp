@@ -59,8 +59,13 @@ MAX_MODEL_TEXT_BYTES, and every base64 block (YAML "!!binary |", JSON "$base64$"
 type_id="binary") starting with a data type header: OpenCV 4.6's base64 reader loops forever on
 a block whose header is empty; in YAML and JSON text every bracket closed by its own and none
 left open (its YAML parser loops forever on a stray ']' followed by an unclosed '[', found by
-fuzzing). */
-String readModelText(const String& filename);
+fuzzing). Its errors name `func`. */
+String readModelText(const String& filename, const char* func = "forestmod::Detector::load");
+
+/** Opens `fs` on readModelText(filename) (cv::FileStorage::MEMORY): every guard of load() for
+any model-like file (readClasses, TemplateForest::load); OpenCV's parse errors and the standard
+exceptions its parsers let through become StsParseError naming `func` and the file. */
+void openModelText(FileStorage& fs, const String& filename, const char* func);
 
 /** cv::read of a matrix node, after checking that it is a 2-D matrix ("opencv-matrix") of at
 most max_elements values (rows x cols x channels) whose data holds exactly that many values:
@@ -84,16 +89,18 @@ void checkTemplateNode(const FileNode& fn, const String& where);
 stores them): levels in order, level-0 width and height in [1, MAX_TEMPLATE_SIZE] and level l's
 equal to level 0's >> l (LINEMOD's cropTemplates), at least one feature per level, at most
 MAX_TEMPLATE_FEATURES per template, every label in 0..7 and every feature inside its template
-(0 <= x <= width, 0 <= y <= height). */
+(0 <= x <= width, 0 <= y <= height). Errors with `code`, their messages starting with `where`
+(model files: StsParseError; addSyntheticTemplate: StsBadArg). */
 void checkTemplatePyramid(const TemplatePyramid& tp, int num_modalities, int pyramid_levels,
-                          const String& where);
+                          const String& where, int code = Error::StsParseError);
 
 /** A template pose (when valid): finite R and t with t's z > 0, K with entries within 1e6,
 focal lengths of at least 1 pixel and the last row (0, 0, 1), the object centre projecting
 within 1e6 pixels, and a box of exactly the template's level-0 size at a position in
-[0, 65535] (the box of the template's features in its own image). */
+[0, 65535] (the box of the template's features in its own image). Errors as
+checkTemplatePyramid's. */
 void checkTemplatePose(const TemplatePose& pose, const linemod::Template& level0,
-                       const String& where);
+                       const String& where, int code = Error::StsParseError);
 
 /** A dense patch (when present): CV_8UC1 mask of the coarsest template's (height + 1) x
 (width + 1), one CV_8UC1 quantized plane per modality of the same size. */

@@ -15,14 +15,20 @@
 namespace cv {
 namespace forestmod {
 
-static void checkIntrinsics(const Matx33d& K, const char* func, const char* name)
+namespace detail {
+void checkIntrinsics(const Matx33d& K, const char* func, const char* name)
 {
-    if (!(K(0, 0) > 0 && K(1, 1) > 0) || std::abs(K(2, 2) - 1.0) > 1e-9 || K(2, 0) != 0
-        || K(2, 1) != 0 || K(1, 0) != 0)
+    bool finite = true;
+    for (int i = 0; i < 9; ++i)
+        finite = finite && std::isfinite(K.val[i]);
+    if (!finite || !(K(0, 0) > 0 && K(1, 1) > 0) || std::abs(K(2, 2) - 1.0) > 1e-9
+        || K(2, 0) != 0 || K(2, 1) != 0 || K(1, 0) != 0)
         CV_Error_(Error::StsBadArg,
-                  ("%s: %s is not a pinhole intrinsic matrix [fx s cx; 0 fy cy; 0 0 1] with "
-                   "fx, fy > 0", func, name));
+                  ("%s: %s is not a pinhole intrinsic matrix [fx s cx; 0 fy cy; 0 0 1] of finite "
+                   "entries with fx, fy > 0", func, name));
 }
+} // namespace detail
+using detail::checkIntrinsics;
 
 static Vec3d pixelRay(const Matx33d& K, const Point2d& px)
 {

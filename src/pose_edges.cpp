@@ -550,8 +550,7 @@ EdgeRefineResult refinePoseEdges(const ObjectDrawer& drawer, const EdgeMaps& map
 {
     checkEdgeParams(params, "refinePoseEdges");
     checkEdgeMaps(maps, params.orientations, drawer.imageSize(), "refinePoseEdges");
-    if (!(K(0, 0) > 0 && K(1, 1) > 0))
-        CV_Error(Error::StsBadArg, "refinePoseEdges: K has no focal length");
+    checkIntrinsics(K, "refinePoseEdges", "K");
     if (!(params.search_angle >= 0) || params.search_steps < 0 || params.hypotheses < 1)
         CV_Error(Error::StsOutOfRange, "refinePoseEdges: EdgeRefineParams needs search_angle >= "
                                        "0, search_steps >= 0 and hypotheses >= 1");

@@ -72,6 +72,14 @@ PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids
     return pm;
 }
 
+void PoseEstimator::swapMeshes(PoseEstimator& other)
+{
+    if (&other == this)
+        return;
+    AutoLock lock(mutex_), other_lock(other.mutex_);
+    drawn_.swap(other.drawn_);
+}
+
 void PoseEstimator::setMesh(const String& class_id, const Mesh& mesh)
 {
     mesh.validate();
@@ -114,8 +122,7 @@ static void checkPoseInputs(const Mat& depth, const Matx33d& K, const PoseParams
         CV_Error_(Error::StsUnsupportedFormat, ("forestmod::Detector::estimatePoses: depth must "
                                                 "be CV_16UC1 in mm, got %s",
                                                 typeToString(depth.type()).c_str()));
-    if (!(K(0, 0) > 0) || !(K(1, 1) > 0))
-        CV_Error(Error::StsBadArg, "forestmod::Detector::estimatePoses: K has no focal length");
+    detail::checkIntrinsics(K, "forestmod::Detector::estimatePoses", "K");
     if (!color.empty() && color.type() != CV_8UC3)
         CV_Error(Error::StsUnsupportedFormat, "forestmod::Detector::estimatePoses: color must be "
                                               "a CV_8UC3 BGR image");

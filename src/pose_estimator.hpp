@@ -44,6 +44,8 @@ class PoseEstimator
 public:
     void setMesh(const String& class_id, const Mesh& mesh);
     bool hasMesh(const String& class_id) const;
+    /** Exchanges the meshes with `other`'s (Detector::load keeps the meshes set before it). */
+    void swapMeshes(PoseEstimator& other);
 
     /** Detector::estimatePoses: initial pose from the template's label (and the scene depth under
     its depth samples), ICP with depth, edge alignment without; depth check and drop. The edge

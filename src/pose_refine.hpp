@@ -19,6 +19,11 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
+/** Throws a cv::Exception (StsBadArg, its message starting with `func`) unless `K`, named `name`
+in the message, is a pinhole intrinsic matrix [fx s cx; 0 fy cy; 0 0 1] of finite entries with
+fx, fy > 0. */
+void checkIntrinsics(const Matx33d& K, const char* func, const char* name);
+
 /** Throws a cv::Exception (its message starting with `who`) unless `maps` hold one CV_32FC1
 distance map per orientation bin, each of size `image`: computeEdgeMaps() of that image with
 `orientations` bins. */

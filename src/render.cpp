@@ -8,6 +8,7 @@
 #include "precomp.hpp"
 #include "params_io.hpp"
 
+#include <climits>
 #include <map>
 
 namespace cv {
@@ -201,7 +202,12 @@ std::vector<double> ViewSampler::inplaneAngles() const
 
 int ViewSampler::size() const
 {
-    return (int)(params.radii.size() * viewpoints().size() * inplaneAngles().size());
+    const double n = (double)params.radii.size() * (double)viewpoints().size()
+                     * (double)inplaneAngles().size();
+    if (n > INT_MAX)
+        CV_Error_(Error::StsOutOfRange, ("ViewSampler: %.0f poses (radii x viewpoints x in-plane "
+                                         "angles), more than an int counts", n));
+    return (int)n;
 }
 
 void ViewSampler::lookAt(const Point3d& center, const Vec3d& direction, double radius,
@@ -232,7 +238,7 @@ std::vector<ViewPose> ViewSampler::poses(const Point3d& center) const
     const std::vector<Vec3d> dirs = viewpoints();
     const std::vector<double> angles = inplaneAngles();
     std::vector<ViewPose> out;
-    out.reserve(params.radii.size() * dirs.size() * angles.size());
+    out.reserve(size()); // (raises beyond an int)
     for (size_t r = 0; r < params.radii.size(); ++r)
         for (size_t v = 0; v < dirs.size(); ++v)
             for (size_t a = 0; a < angles.size(); ++a)

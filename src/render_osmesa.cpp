@@ -367,7 +367,8 @@ void RendererImpl::checkDraw(const std::vector<int>& handles, const std::vector<
     const double fx = K(0, 0), fy = K(1, 1), cx = K(0, 2), cy = K(1, 2);
     if (!(fx > 0) || !(fy > 0) || !std::isfinite(fx) || !std::isfinite(fy) || !std::isfinite(cx)
         || !std::isfinite(cy))
-        CV_Error_(Error::StsBadArg, ("%s: K needs positive finite fx, fy (got %g, %g)", fn, fx, fy));
+        CV_Error_(Error::StsBadArg, ("%s: K needs positive finite fx, fy and finite cx, cy (got "
+                                     "%g, %g, %g, %g)", fn, fx, fy, cx, cy));
     for (size_t i = 0; i < handles.size(); ++i)
     {
         if (handles[i] < 0 || handles[i] >= (int)meshes_.size())

@@ -431,8 +431,7 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
         CV_Error_(Error::StsUnmatchedSizes, ("forestmod::Detector::verify: depth is %dx%d, color "
                                              "%dx%d", depth.cols, depth.rows, color.cols,
                                              color.rows));
-    if (!(K(0, 0) > 0) || !(K(1, 1) > 0))
-        CV_Error(Error::StsBadArg, "forestmod::Detector::verify: K has no focal length");
+    detail::checkIntrinsics(K, "forestmod::Detector::verify", "K");
     if (maps)
     {
         checkEdgeMaps(*maps, p.edge_params.orientations, color.size(),

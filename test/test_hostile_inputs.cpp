@@ -3,8 +3,9 @@
 // of this distribution and at http://opencv.org/license.html
 
 // Hostile inputs: mutated model files, bad PLY files, out-of-range parameters, degenerate
-// meshes, dangling symbolic links as output paths, and the inputs the fuzz targets found
-// (fuzz/, scripts/fuzz.sh). Each ends in a cv::Exception whose message names the problem.
+// meshes, dangling symbolic links as output paths, the inputs the fuzz targets found (fuzz/,
+// scripts/fuzz.sh), and bad templates, poses and camera matrices given to the API. Each ends in
+// a cv::Exception whose message names the problem.
 
 #include "test_precomp.hpp"
 #include "../samples/sample_utils.hpp"
@@ -528,6 +529,11 @@ TEST(Forestmod_HostileInputs, dangling_symlink_output_is_not_written_through)
         EXPECT_FALSE(utils::fs::exists(target));
     }
 
+    // nor does the BOP results writer write through it
+    for (int overwrite = 0; overwrite < 2; ++overwrite)
+        EXPECT_THROW(cv::forestmod::BopResultWriter(link, overwrite != 0), cv::Exception);
+    EXPECT_FALSE(utils::fs::exists(target));
+
     // the samples' check (every sample's output path, --force or not)
     EXPECT_TRUE(cv::forestmod::samples::isDanglingSymlink(link));
     EXPECT_TRUE(cv::forestmod::samples::refuseOutput("test", link, true));
@@ -645,22 +651,171 @@ TEST(Forestmod_HostileInputs, fuzz_seeds_load_and_fuzz_findings_are_refused)
             continue;
         }
         const bool model = found[i].find("/model_") != std::string::npos;
-        try
+        // a model file goes through every reader of model-like files: Detector::load,
+        // Detector::readClasses (a cv::linemod class file) and TemplateForest::load
+        for (int reader = 0; reader < (model ? 3 : 1); ++reader)
         {
-            if (model)
+            try
             {
-                cv::forestmod::Detector det;
-                det.load(found[i]);
+                if (!model)
+                    Mesh::load(found[i]);
+                else if (reader == 0)
+                {
+                    cv::forestmod::Detector det;
+                    det.load(found[i]);
+                }
+                else if (reader == 1)
+                {
+                    cv::forestmod::Detector det;
+                    det.readClasses(std::vector<String>(1, "x"), found[i]);
+                }
+                else
+                    cv::forestmod::TemplateForest::load(found[i]);
+                ADD_FAILURE() << found[i] << " loaded (reader " << reader << ")";
             }
-            else
-                Mesh::load(found[i]);
-            ADD_FAILURE() << found[i] << " loaded";
-        }
-        catch (const cv::Exception& e)
-        {
-            EXPECT_FALSE(e.err.empty()) << found[i];
+            catch (const cv::Exception& e)
+            {
+                EXPECT_FALSE(e.err.empty()) << found[i];
+            }
         }
     }
+}
+
+// ---- the public API's own inputs ------------------------------------------------------------
+
+// runs f, which must raise a cv::Exception of `code` whose message holds `needle`
+template <typename F>
+static void expectRaises(F f, int code, const std::string& needle, const std::string& what)
+{
+    try
+    {
+        f();
+        ADD_FAILURE() << what << ": no exception";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_EQ(code, e.code) << what << ": " << e.err;
+        EXPECT_NE(std::string::npos, e.err.find(needle)) << what << ": " << e.err;
+    }
+}
+
+// addSyntheticTemplate and addTemplate refuse what load() refuses (a label the search indexes
+// out of bounds crashed match(); a pose that load() refuses made a model that could be saved but
+// not loaded), and add nothing then
+TEST(Forestmod_HostileInputs, templates_added_are_checked_as_loaded_ones)
+{
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    Mat color, mask;
+    shapeView(1, color, mask); // the view of shapeScene()
+    const Matx33d K(500, 0, 80, 0, 500, 80, 0, 0, 1);
+    const std::vector<Mat> src(2, color);
+    ASSERT_GE(det->addTemplate(src, "shape", mask, Matx33d::eye(), Vec3d(0, 0, 700), K), 0);
+    const std::vector<linemod::Template> good = det->getTemplates("shape", 0);
+    ASSERT_GE(det->addSyntheticTemplate(good, "copy"), 0); // the same templates are accepted
+    std::vector<linemod::Template> bad = good;
+    ASSERT_FALSE(bad[0].features.empty());
+    bad[0].features[0].label = 200;
+    expectRaises([&] { det->addSyntheticTemplate(bad, "bad"); }, Error::StsBadArg,
+                 "label 200, expected 0..7", "label 200");
+    bad = good;
+    bad.back().features.back().x = 100000;
+    expectRaises([&] { det->addSyntheticTemplate(bad, "bad"); }, Error::StsBadArg,
+                 "lies outside the template", "feature x 100000");
+    expectRaises([&] { det->addTemplate(src, "shape", mask, Matx33d::eye(), Vec3d(0, 0, 0), K); },
+                 Error::StsBadArg, "t_z is 0 mm", "t_z 0");
+    expectRaises([&] { det->addTemplate(src, "shape", mask, Matx33d::eye(), Vec3d(0, 0, 700),
+                                        Matx33d()); },
+                 Error::StsBadArg, "focal lengths 0, 0", "K 0");
+    EXPECT_EQ(2, det->numTemplates());
+    EXPECT_EQ(1, det->numTemplates("shape"));
+    std::vector<linemod::Match> m;
+    EXPECT_NO_THROW(det->match(std::vector<Mat>(2, shapeScene()), 80.f, m));
+    EXPECT_FALSE(m.empty());
+}
+
+// a model file that fails to load leaves the detector as it was (its templates, training and
+// meshes), not half replaced by the file's first classes
+TEST(Forestmod_HostileInputs, failed_load_leaves_the_detector_unchanged)
+{
+    const std::string text = smallModelText();
+    cv::forestmod::Detector det;
+    const std::string file = cv::tempfile(".yml");
+    writeFile(file, text);
+    det.load(file);
+    const std::vector<Mat> scene(2, shapeScene());
+    std::vector<linemod::Match> before, after;
+    det.match(scene, 80.f, before);
+    ASSERT_FALSE(before.empty());
+    ASSERT_TRUE(det.isTrained());
+    const cv::forestmod::DetectorParams params = det.getParams();
+
+    // the same model with two classes, the second one's feature label broken
+    const size_t at = text.find("classes:");
+    ASSERT_NE(std::string::npos, at);
+    const size_t first = text.find("\n   -", at);
+    const size_t end = text.find("\n", text.find("\nforest", at) == std::string::npos
+                                            ? text.size() - 1 : text.find("\nforest", at));
+    CV_UNUSED(end);
+    // two classes: the first as in the file, a copy of it named "broken" with a label of 9
+    const size_t forest = text.find("\nforest", at);
+    ASSERT_NE(std::string::npos, first);
+    ASSERT_NE(std::string::npos, forest);
+    std::string cls = text.substr(first, forest - first);
+    cls = std::regex_replace(cls, std::regex("class_id: \"?shape\"?"), "class_id: broken",
+                             std::regex_constants::format_first_only);
+    cls = mutate(cls, "(features:\\s*- \\[ \\d+, \\d+, )\\d+ \\]", "$019 ]");
+    const std::string two = text.substr(0, forest) + cls + text.substr(forest);
+    writeFile(file, two);
+    expectRaises([&] { det.load(file); }, Error::StsParseError, "label 9, expected 0..7",
+                 "broken second class");
+    std::remove(file.c_str());
+    EXPECT_EQ(1, det.numClasses());
+    EXPECT_EQ(3, det.numTemplates());
+    EXPECT_TRUE(det.isTrained());
+    EXPECT_EQ(params.forest.num_trees, det.getParams().forest.num_trees);
+    det.match(scene, 80.f, after);
+    ASSERT_EQ(before.size(), after.size());
+    for (size_t i = 0; i < before.size(); ++i)
+        EXPECT_TRUE(before[i] == after[i]) << i;
+}
+
+// camera matrices: a NaN principal point is refused (it gave poses that never left the
+// template's own and scores of 0), and a sampler of more poses than an int counts raises
+TEST(Forestmod_HostileInputs, camera_matrices_and_sampler_sizes)
+{
+    const Matx33d K(572.4, 0, 325.3, 0, 573.6, 242.0, 0, 0, 1);
+    for (int entry = 0; entry < 4; ++entry)
+    {
+        Matx33d bad = K;
+        const int at[4] = { 2, 5, 0, 1 }; // cx, cy, fx, skew
+        bad.val[at[entry]] = std::numeric_limits<double>::quiet_NaN();
+        Matx33d R;
+        Vec3d t;
+        expectRaises([&] { cv::forestmod::initialPose(Matx33d::eye(), Vec3d(0, 0, 700), K,
+                                                      Point2d(80, 80), bad, Point2d(320, 240),
+                                                      700.0, R, t); },
+                     Error::StsBadArg, "finite", "initialPose, K entry " + std::to_string(at[entry]));
+    }
+    cv::forestmod::Detector det;
+    const std::string file = cv::tempfile(".yml");
+    writeFile(file, smallModelText());
+    det.load(file);
+    std::remove(file.c_str());
+    Matx33d nan_cx = K;
+    nan_cx(0, 2) = std::numeric_limits<double>::quiet_NaN();
+    std::vector<cv::forestmod::PoseMatch> found;
+    expectRaises([&] { det.detect(std::vector<Mat>(2, shapeScene()), nan_cx, 80.f, found); },
+                 Error::StsBadArg, "finite", "detect, cx NaN");
+
+    cv::forestmod::ViewSampler::Params vp;
+    vp.level = 6;
+    vp.inplane_min = -180;
+    vp.inplane_max = 180;
+    vp.inplane_step = 0.1;
+    vp.radii.assign(30, 700.0);
+    const cv::forestmod::ViewSampler sampler(vp);
+    expectRaises([&] { sampler.size(); }, Error::StsOutOfRange, "more than an int counts",
+                 "sampler size");
 }
 
 }} // namespace

@@ -390,7 +390,9 @@ public:
     /** Same as cv::linemod::Detector::addTemplate (no pose label). */
     CV_WRAP int addTemplate(const std::vector<Mat>& sources, const String& class_id,
                             const Mat& object_mask, CV_OUT Rect* bounding_box = NULL);
-    /** addTemplate with the template's pose label (R, t in BOP convention, K of the rendering). */
+    /** addTemplate with the template's pose label (R, t in BOP convention, K of the rendering):
+    a pose that load() would refuse (not finite, t_z <= 0, focal lengths below 1 pixel, K's last
+    row not (0, 0, 1)) raises StsBadArg and adds nothing. */
     int addTemplate(const std::vector<Mat>& sources, const String& class_id,
                     const Mat& object_mask, const Matx33d& R, const Vec3d& t, const Matx33d& K,
                     Rect* bounding_box = NULL);
@@ -406,7 +408,9 @@ public:
                      const std::function<bool(int, int)>& progress
                      = std::function<bool(int, int)>());
 
-    /** Same as cv::linemod::Detector::addSyntheticTemplate. */
+    /** Same as cv::linemod::Detector::addSyntheticTemplate, with the checks of load(): one
+    template per modality and level, sizes, feature labels 0..7 and positions inside their
+    template (StsBadArg otherwise, nothing added). */
     CV_WRAP int addSyntheticTemplate(const std::vector<cv::linemod::Template>& templates,
                                      const String& class_id);
 
@@ -559,7 +563,8 @@ public:
     5: the forests' rejectors and the templates' features are most of it). */
     CV_WRAP void save(const String& filename, bool overwrite = false) const;
     /** Loads a model written by save(); a corrupt file, another format version or an unknown
-    modality raises cv::Exception. */
+    modality raises cv::Exception and leaves the detector as it was (the file is read whole
+    before it replaces anything). The meshes set with setMesh() stay. */
     CV_WRAP void load(const String& filename);
 
 private:

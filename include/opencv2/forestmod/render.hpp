@@ -219,7 +219,7 @@ struct CV_EXPORTS_W_SIMPLE ViewSampler
     CV_WRAP std::vector<Vec3d> viewpoints() const;
     /** The in-plane angles (degrees), ascending. */
     CV_WRAP std::vector<double> inplaneAngles() const;
-    /** Number of poses = radii x viewpoints x in-plane angles. */
+    /** Number of poses = radii x viewpoints x in-plane angles (StsOutOfRange beyond INT_MAX). */
     CV_WRAP int size() const;
     /** All poses looking at `center` (model frame, mm; use Mesh::center()). */
     CV_WRAP std::vector<ViewPose> poses(const Point3d& center = Point3d()) const;
