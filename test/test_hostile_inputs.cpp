@@ -749,14 +749,10 @@ TEST(Forestmod_HostileInputs, failed_load_leaves_the_detector_unchanged)
     ASSERT_TRUE(det.isTrained());
     const cv::forestmod::DetectorParams params = det.getParams();
 
-    // the same model with two classes, the second one's feature label broken
+    // two classes: the first as in the file, a copy of it named "broken" with a label of 9
     const size_t at = text.find("classes:");
     ASSERT_NE(std::string::npos, at);
     const size_t first = text.find("\n   -", at);
-    const size_t end = text.find("\n", text.find("\nforest", at) == std::string::npos
-                                            ? text.size() - 1 : text.find("\nforest", at));
-    CV_UNUSED(end);
-    // two classes: the first as in the file, a copy of it named "broken" with a label of 9
     const size_t forest = text.find("\nforest", at);
     ASSERT_NE(std::string::npos, first);
     ASSERT_NE(std::string::npos, forest);
