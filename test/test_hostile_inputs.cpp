@@ -790,7 +790,8 @@ TEST(Forestmod_HostileInputs, camera_matrices_and_sampler_sizes)
         expectRaises([&] { cv::forestmod::initialPose(Matx33d::eye(), Vec3d(0, 0, 700), K,
                                                       Point2d(80, 80), bad, Point2d(320, 240),
                                                       700.0, R, t); },
-                     Error::StsBadArg, "finite", "initialPose, K entry " + std::to_string(at[entry]));
+                     Error::StsBadArg, "finite",
+                     "initialPose, K entry " + std::to_string(at[entry]));
     }
     cv::forestmod::Detector det;
     const std::string file = cv::tempfile(".yml");
