@@ -376,9 +376,7 @@ static Matx33d checkICPInputs(const std::vector<Point3f>& model_points, const Ma
         CV_Error_(Error::StsUnsupportedFormat,
                   ("refineICP: scene_depth must be CV_16UC1 (millimetres), got %s",
                    typeToString(depth.type()).c_str()));
-    if (!(K(0, 0) > 0 && K(1, 1) > 0 && K(1, 0) == 0 && K(2, 0) == 0 && K(2, 1) == 0
-          && std::abs(K(2, 2) - 1) < 1e-9))
-        CV_Error(Error::StsBadArg, "refineICP: K is not a pinhole intrinsic matrix with fx, fy > 0");
+    detail::checkIntrinsics(K, "refineICP", "K");
     if ((int)model_points.size() < params.min_correspondences)
         CV_Error_(Error::StsBadArg,
                   ("refineICP: %d model points, at least min_correspondences = %d are needed",

@@ -200,14 +200,19 @@ std::vector<double> ViewSampler::inplaneAngles() const
     return a;
 }
 
-int ViewSampler::size() const
+// radii x viewpoints x in-plane angles, raising beyond an int
+static int countPoses(size_t radii, size_t viewpoints, size_t angles)
 {
-    const double n = (double)params.radii.size() * (double)viewpoints().size()
-                     * (double)inplaneAngles().size();
+    const double n = (double)radii * (double)viewpoints * (double)angles;
     if (n > INT_MAX)
         CV_Error_(Error::StsOutOfRange, ("ViewSampler: %.0f poses (radii x viewpoints x in-plane "
                                          "angles), more than an int counts", n));
     return (int)n;
+}
+
+int ViewSampler::size() const
+{
+    return countPoses(params.radii.size(), viewpoints().size(), inplaneAngles().size());
 }
 
 void ViewSampler::lookAt(const Point3d& center, const Vec3d& direction, double radius,
@@ -238,7 +243,7 @@ std::vector<ViewPose> ViewSampler::poses(const Point3d& center) const
     const std::vector<Vec3d> dirs = viewpoints();
     const std::vector<double> angles = inplaneAngles();
     std::vector<ViewPose> out;
-    out.reserve(size()); // (raises beyond an int)
+    out.reserve(countPoses(params.radii.size(), dirs.size(), angles.size()));
     for (size_t r = 0; r < params.radii.size(); ++r)
         for (size_t v = 0; v < dirs.size(); ++v)
             for (size_t a = 0; a < angles.size(); ++a)
