@@ -47,6 +47,23 @@ Detector::Detector(const std::vector<Ptr<Modality> >& _modalities,
 
 Detector::~Detector() {}
 
+Detector::Detector(const Detector& other)
+    : cv::linemod::Detector(), impl_(makePtr<DetectorImpl>())
+{
+    *this = other;
+}
+
+Detector& Detector::operator=(const Detector& other)
+{
+    if (&other == this)
+        return *this;
+    AutoLock lock(other.impl_->mutex); // a consistent copy while other's match() trains
+    Ptr<DetectorImpl> copy = makePtr<DetectorImpl>(*other.impl_);
+    cv::linemod::Detector::operator=(other);
+    impl_ = copy;
+    return *this;
+}
+
 DetectorParams Detector::getParams() const
 {
     return impl_->params;

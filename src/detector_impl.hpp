@@ -19,6 +19,16 @@ namespace detail {
 
 struct DetectorImpl
 {
+    DetectorImpl() {}
+    /** Detector's copy: everything but the mutex (the caller holds other.mutex); the trained
+    forests are shared, read-only once trained (train() makes new ones). */
+    DetectorImpl(const DetectorImpl& other)
+        : params(other.params), roles(other.roles), store(other.store), index(other.index),
+          poses(other.poses)
+    {
+    }
+    DetectorImpl& operator=(const DetectorImpl&) = delete;
+
     DetectorParams params;
     ModalityRoles roles;     //!< of the base class's modalities, set with them
     TemplateStore store;     //!< records beside the base class's template pyramids

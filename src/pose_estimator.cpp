@@ -72,6 +72,12 @@ PoseMatch toPoseMatch(const cv::linemod::Match& m, const ClassPyramids& pyramids
     return pm;
 }
 
+PoseEstimator::PoseEstimator(const PoseEstimator& other)
+{
+    AutoLock lock(other.mutex_);
+    drawn_ = other.drawn_;
+}
+
 void PoseEstimator::swapMeshes(PoseEstimator& other)
 {
     if (&other == this)

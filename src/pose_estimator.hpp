@@ -47,6 +47,11 @@ public:
     /** Exchanges the meshes with `other`'s (Detector::load keeps the meshes set before it). */
     void swapMeshes(PoseEstimator& other);
 
+    PoseEstimator() {}
+    /** A copy of the meshes (Detector's copy). */
+    PoseEstimator(const PoseEstimator& other);
+    PoseEstimator& operator=(const PoseEstimator& other) = delete;
+
     /** Detector::estimatePoses: initial pose from the template's label (and the scene depth under
     its depth samples), ICP with depth, edge alignment without; depth check and drop. The edge
     alignment reads edge_maps when they are not empty, else computes them around the refined

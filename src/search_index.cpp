@@ -357,6 +357,25 @@ std::shared_ptr<const CoarseRuns::Offsets> CoarseRuns::offsetsFor(int stride, in
     return offsets_;
 }
 
+CoarseRuns& CoarseRuns::operator=(const CoarseRuns& other)
+{
+    if (&other == this)
+        return *this;
+    features = other.features;
+    begin = other.begin;
+    cells = other.cells;
+    centre = other.centre;
+    total = other.total;
+    std::shared_ptr<const Offsets> kept;
+    {
+        AutoLock lock(other.offsets_mutex_);
+        kept = other.offsets_;
+    }
+    AutoLock lock(offsets_mutex_);
+    offsets_ = kept;
+    return *this;
+}
+
 void CoarseRuns::clearOffsets()
 {
     AutoLock lock(offsets_mutex_);

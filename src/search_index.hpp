@@ -78,6 +78,11 @@ struct CoarseRuns
     /** Drops the kept offsets (the features changed). */
     void clearOffsets();
 
+    CoarseRuns() {}
+    /** A copy of the features; the kept offsets are shared (they never change once made). */
+    CoarseRuns(const CoarseRuns& other) { *this = other; }
+    CoarseRuns& operator=(const CoarseRuns& other);
+
 private:
     mutable std::shared_ptr<const Offsets> offsets_;
     mutable Mutex offsets_mutex_;

@@ -775,6 +775,53 @@ TEST(Forestmod_HostileInputs, failed_load_leaves_the_detector_unchanged)
         EXPECT_TRUE(before[i] == after[i]) << i;
 }
 
+// a copy of a detector is independent, as a copy of cv::linemod::Detector is (it shared the
+// original's search index: templates added to the copy made the original's match() fail an
+// internal assertion)
+TEST(Forestmod_HostileInputs, copies_of_a_detector_are_independent)
+{
+    const std::string file = cv::tempfile(".yml");
+    writeFile(file, smallModelText());
+    cv::forestmod::Detector det;
+    det.load(file);
+    std::remove(file.c_str());
+    const std::vector<Mat> scene(2, shapeScene());
+    std::vector<linemod::Match> before, m;
+    det.match(scene, 80.f, before);
+    ASSERT_FALSE(before.empty());
+    cv::forestmod::Detector copy = det;
+    EXPECT_TRUE(copy.isTrained()) << "the trained forests are copied";
+    copy.match(scene, 80.f, m);
+    ASSERT_EQ(before.size(), m.size());
+    Mat color, mask;
+    shapeView(1, color, mask);
+    ASSERT_GE(copy.addTemplate(std::vector<Mat>(2, color), "other", mask), 0);
+    cv::forestmod::DetectorParams p = copy.getParams();
+    p.nms_iou = 0.f;
+    copy.setParams(p);
+    EXPECT_EQ(4, copy.numTemplates());
+    EXPECT_EQ(3, det.numTemplates());
+    EXPECT_TRUE(det.isTrained());
+    EXPECT_NE(p.nms_iou, det.getParams().nms_iou);
+    ASSERT_NO_THROW(det.match(scene, 80.f, m));
+    ASSERT_EQ(before.size(), m.size());
+    for (size_t i = 0; i < before.size(); ++i)
+        EXPECT_TRUE(before[i] == m[i]) << i;
+    ASSERT_NO_THROW(copy.match(scene, 80.f, m));
+    EXPECT_GT(m.size(), before.size());
+    // assignment: the same, and the assigned-to detector's own state is gone
+    Ptr<cv::forestmod::Detector> assigned = getDefaultForestLINE();
+    *assigned = copy;
+    EXPECT_EQ(4, assigned->numTemplates());
+    EXPECT_EQ(2, assigned->numClasses());
+    EXPECT_EQ(0.f, assigned->getParams().nms_iou);
+    *assigned = det;
+    EXPECT_EQ(3, assigned->numTemplates());
+    EXPECT_EQ(4, copy.numTemplates());
+    ASSERT_NO_THROW(assigned->match(scene, 80.f, m));
+    EXPECT_EQ(before.size(), m.size());
+}
+
 // camera matrices: a NaN principal point is refused (it gave poses that never left the
 // template's own and scores of 0), and a sampler of more poses than an int counts raises
 TEST(Forestmod_HostileInputs, camera_matrices_and_sampler_sizes)

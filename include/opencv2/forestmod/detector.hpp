@@ -369,6 +369,10 @@ public:
                      const std::vector<int>& T_pyramid,
                      const DetectorParams& params = DetectorParams());
     ~Detector();
+    /** An independent copy, as cv::linemod::Detector's: the templates, parameters, trained
+    forests and meshes; adding templates to one leaves the other as it is. */
+    Detector(const Detector& other);
+    Detector& operator=(const Detector& other);
 
     /** Same as cv::linemod::Detector::match. */
     CV_WRAP void match(const std::vector<Mat>& sources, float threshold,
