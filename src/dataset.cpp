@@ -8,6 +8,7 @@
 #include "opencv2/imgcodecs.hpp"
 #include "opencv2/core/utils/filesystem.hpp"
 #include "model_check.hpp"
+#include "pose_refine.hpp"
 
 #include <cstdio>
 #include <cstdlib>
@@ -102,6 +103,36 @@ static double requireNumber(const FileNode& parent, const String& key, const Str
     return toNumber(requireKey(parent, key, file, where), key, file, where);
 }
 
+// Bounds of camera.json's and models_info.json's values: far beyond any real camera or object,
+// they keep the conversions to int and the products of the evaluation finite.
+static const double kMaxFocal = 1e7, kMaxSide = 1 << 16, kMaxDepthScale = 1e6, kMaxDiameter = 1e9;
+
+// A number in (0, max]: focal lengths, image sizes, depth scales, diameters.
+static double requirePositive(const FileNode& parent, const String& key, double max,
+                              const String& file, const String& where)
+{
+    const double v = requireNumber(parent, key, file, where);
+    if (!(v > 0 && v <= max))
+        CV_Error_(Error::StsParseError,
+                  ("BopDataset: '%s': %s, key '%s' must be in (0, %g], not %g", file.c_str(),
+                   where.c_str(), key.c_str(), max, v));
+    return v;
+}
+
+// A pinhole camera matrix (what the detector and the pose stage accept).
+static void checkCameraMatrix(const Matx33d& K, const String& file, const String& where)
+{
+    try
+    {
+        detail::checkIntrinsics(K, "BopDataset", "K");
+    }
+    catch (const cv::Exception& e)
+    {
+        CV_Error_(Error::StsParseError, ("BopDataset: '%s': %s: %s", file.c_str(), where.c_str(),
+                                         e.err.c_str()));
+    }
+}
+
 static std::vector<double> requireNumbers(const FileNode& parent, const String& key, size_t count,
                                           const String& file, const String& where)
 {
@@ -164,15 +195,16 @@ BopDataset BopDataset::open(const String& root, const String& split,
         FileStorage f = openJson(cam_file);
         const FileNode r = f.root();
         const String w = "the top object";
-        const double fx = requireNumber(r, "fx", cam_file, w);
-        const double fy = requireNumber(r, "fy", cam_file, w);
+        const double fx = requirePositive(r, "fx", kMaxFocal, cam_file, w);
+        const double fy = requirePositive(r, "fy", kMaxFocal, cam_file, w);
         const double cx = requireNumber(r, "cx", cam_file, w);
         const double cy = requireNumber(r, "cy", cam_file, w);
         ds.K_ = Matx33d(fx, 0, cx, 0, fy, cy, 0, 0, 1);
-        ds.size_ = Size((int)requireNumber(r, "width", cam_file, w),
-                        (int)requireNumber(r, "height", cam_file, w));
+        checkCameraMatrix(ds.K_, cam_file, w);
+        ds.size_ = Size(cvRound(requirePositive(r, "width", kMaxSide, cam_file, w)),
+                        cvRound(requirePositive(r, "height", kMaxSide, cam_file, w)));
         if (!r["depth_scale"].empty())
-            ds.depth_scale_ = requireNumber(r, "depth_scale", cam_file, w);
+            ds.depth_scale_ = requirePositive(r, "depth_scale", kMaxDepthScale, cam_file, w);
     }
 
     const String info_file = fs::join(fs::join(root, "models"), "models_info.json");
@@ -188,7 +220,7 @@ BopDataset BopDataset::open(const String& root, const String& split,
             if (!e.isMap())
                 CV_Error_(Error::StsParseError, ("BopDataset: '%s': %s must be an object",
                                                  info_file.c_str(), w.c_str()));
-            m.diameter = requireNumber(e, "diameter", info_file, w);
+            m.diameter = requirePositive(e, "diameter", kMaxDiameter, info_file, w);
             m.min = Point3d(requireNumber(e, "min_x", info_file, w),
                             requireNumber(e, "min_y", info_file, w),
                             requireNumber(e, "min_z", info_file, w));
@@ -319,8 +351,10 @@ std::vector<Frame> BopDataset::frames(int scene_id) const
             const String w = "image '" + e.name() + "'";
             const std::vector<double> k = requireNumbers(e, "cam_K", 9, cam_file, w);
             fr.K = Matx33d(&k[0]);
-            fr.depth_scale = e["depth_scale"].empty() ? depth_scale_
-                                                      : requireNumber(e, "depth_scale", cam_file, w);
+            checkCameraMatrix(fr.K, cam_file, w);
+            fr.depth_scale = e["depth_scale"].empty()
+                                 ? depth_scale_
+                                 : requirePositive(e, "depth_scale", kMaxDepthScale, cam_file, w);
             frames[fr.im_id] = fr;
         }
     }

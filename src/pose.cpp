@@ -173,10 +173,28 @@ double depthAgreement(InputArray rendered_depth, InputArray scene_depth, double 
     return valid ? (double)agree / (double)valid : 0.0;
 }
 
-static void checkPoints(const std::vector<Point3f>& pts, const char* func)
+static bool finitePose(const Matx33d& R, const Vec3d& t)
+{
+    bool ok = true;
+    for (int i = 0; i < 9; ++i)
+        ok = ok && std::isfinite(R.val[i]);
+    for (int i = 0; i < 3; ++i)
+        ok = ok && std::isfinite(t[i]);
+    return ok;
+}
+
+// The inputs of the pose errors that must hold: model points, all finite (the k-d tree of
+// adiError needs an order), and a finite ground truth.
+static void checkErrorInputs(const std::vector<Point3f>& pts, const Matx33d& R_gt,
+                             const Vec3d& t_gt, const char* func)
 {
     if (pts.empty())
         CV_Error_(Error::StsBadArg, ("%s: no model points", func));
+    for (size_t i = 0; i < pts.size(); ++i)
+        if (!(std::isfinite(pts[i].x) && std::isfinite(pts[i].y) && std::isfinite(pts[i].z)))
+            CV_Error_(Error::StsBadArg, ("%s: model point %d is not finite", func, (int)i));
+    if (!finitePose(R_gt, t_gt))
+        CV_Error_(Error::StsBadArg, ("%s: the ground-truth pose is not finite", func));
 }
 
 static inline Vec3d transform(const Matx33d& R, const Vec3d& t, const Point3f& p)
@@ -187,7 +205,9 @@ static inline Vec3d transform(const Matx33d& R, const Vec3d& t, const Point3f& p
 double addError(const std::vector<Point3f>& pts, const Matx33d& R_est, const Vec3d& t_est,
                 const Matx33d& R_gt, const Vec3d& t_gt)
 {
-    checkPoints(pts, "addError");
+    checkErrorInputs(pts, R_gt, t_gt, "addError");
+    if (!finitePose(R_est, t_est))
+        return std::numeric_limits<double>::quiet_NaN();
     double sum = 0;
     for (size_t i = 0; i < pts.size(); ++i)
         sum += norm(transform(R_est, t_est, pts[i]) - transform(R_gt, t_gt, pts[i]));
@@ -283,7 +303,9 @@ private:
 double adiError(const std::vector<Point3f>& pts, const Matx33d& R_est, const Vec3d& t_est,
                 const Matx33d& R_gt, const Vec3d& t_gt)
 {
-    checkPoints(pts, "adiError");
+    checkErrorInputs(pts, R_gt, t_gt, "adiError");
+    if (!finitePose(R_est, t_est))
+        return std::numeric_limits<double>::quiet_NaN();
     std::vector<Vec3d> gt(pts.size()), est(pts.size());
     for (size_t i = 0; i < pts.size(); ++i)
     {
@@ -313,8 +335,10 @@ double adiError(const std::vector<Point3f>& pts, const Matx33d& R_est, const Vec
 double projectionError2D(const std::vector<Point3f>& pts, const Matx33d& K, const Matx33d& R_est,
                          const Vec3d& t_est, const Matx33d& R_gt, const Vec3d& t_gt)
 {
-    checkPoints(pts, "projectionError2D");
+    checkErrorInputs(pts, R_gt, t_gt, "projectionError2D");
     checkIntrinsics(K, "projectionError2D", "K");
+    if (!finitePose(R_est, t_est))
+        return std::numeric_limits<double>::quiet_NaN();
     double sum = 0;
     for (size_t i = 0; i < pts.size(); ++i)
     {

@@ -327,8 +327,42 @@ TEST(Forestmod_Dataset, bad_files_raise_with_file_and_key)
     EXPECT_TRUE(contains(msg, "diameter")) << msg;
     writeText(root + "/models/models_info.json", kModels);
 
-    // scene_camera.json: cam_K missing
+    // values out of range: a zero focal length, a width beyond an int, a negative depth scale
+    // and diameter, a camera matrix that is not a pinhole (the detector's and the pose stage's)
+    const char* cam_bad[][2] = { { "\"fx\": 600.0", "\"fx\": 0" },
+                                 { "\"width\": 64", "\"width\": 1e12" },
+                                 { "\"depth_scale\": 0.1", "\"depth_scale\": -0.1" } };
+    for (const auto& b : cam_bad)
+    {
+        cam = kCamera;
+        cam.replace(cam.find(b[0]), strlen(b[0]), b[1]);
+        writeText(root + "/camera.json", cam);
+        msg = errorOf([&]() { BopDataset::open(root); });
+        EXPECT_TRUE(contains(msg, "camera.json")) << b[1] << ": " << msg;
+        EXPECT_TRUE(contains(msg, std::string(b[0]).substr(1, std::string(b[0]).find('"', 1) - 1)))
+            << b[1] << ": " << msg;
+    }
+    writeText(root + "/camera.json", kCamera);
+    models = kModels;
+    models.replace(models.find("80.5"), 4, "-80.5");
+    writeText(root + "/models/models_info.json", models);
+    msg = errorOf([&]() { BopDataset::open(root); });
+    EXPECT_TRUE(contains(msg, "diameter")) << msg;
+    writeText(root + "/models/models_info.json", kModels);
     std::string sc(kSceneCamera);
+    sc.replace(sc.find("[600.0, 0.0, 320.5, 0.0, 601.0"), 30, "[600.0, 0.0, 320.5, 0.0, -601.");
+    writeText(root + "/test/000005/scene_camera.json", sc);
+    msg = errorOf([&]() { BopDataset::open(root).frames(5); });
+    EXPECT_TRUE(contains(msg, "scene_camera.json")) << msg;
+    EXPECT_TRUE(contains(msg, "image '0'")) << msg;
+    sc = kSceneCamera;
+    sc.replace(sc.find("\"depth_scale\": 0.5"), 18, "\"depth_scale\": 0");
+    writeText(root + "/test/000005/scene_camera.json", sc);
+    msg = errorOf([&]() { BopDataset::open(root).frames(5); });
+    EXPECT_TRUE(contains(msg, "depth_scale")) << msg;
+
+    // scene_camera.json: cam_K missing
+    sc = kSceneCamera;
     sc.replace(sc.find("\"cam_K\""), 7, "\"cam_k\"");
     writeText(root + "/test/000005/scene_camera.json", sc);
     msg = errorOf([&]() { BopDataset::open(root).frames(5); });

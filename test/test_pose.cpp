@@ -719,6 +719,30 @@ TEST(Forestmod_Pose, add_of_a_pure_translation_is_its_length)
     EXPECT_THROW(adiError(std::vector<Point3f>(), R, t, R, t), cv::Exception);
 }
 
+// The pose errors of a non-finite estimate are NaN (the k-d tree's nearest point had made ADI
+// finite), and a non-finite ground truth or model point is refused.
+TEST(Forestmod_Pose, errors_of_non_finite_poses)
+{
+    const Mesh& mesh = apeMesh();
+    const Matx33d R = Matx33d::eye(), K(600, 0, 320, 0, 600, 240, 0, 0, 1);
+    const Vec3d t(10, 20, 800);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const Vec3d t_nan(nan, 0, 800);
+    Matx33d R_inf = R;
+    R_inf(1, 2) = std::numeric_limits<double>::infinity();
+    EXPECT_TRUE(cvIsNaN(addError(mesh.vertices, R, t_nan, R, t)));
+    EXPECT_TRUE(cvIsNaN(adiError(mesh.vertices, R, t_nan, R, t)));
+    EXPECT_TRUE(cvIsNaN(adiError(mesh.vertices, R_inf, t, R, t)));
+    EXPECT_TRUE(cvIsNaN(projectionError2D(mesh.vertices, K, R_inf, t, R, t)));
+    EXPECT_THROW(addError(mesh.vertices, R, t, R, t_nan), cv::Exception);
+    EXPECT_THROW(adiError(mesh.vertices, R, t, R_inf, t), cv::Exception);
+    EXPECT_THROW(projectionError2D(mesh.vertices, K, R, t, R, t_nan), cv::Exception);
+    std::vector<Point3f> pts = mesh.vertices;
+    pts[5].y = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(adiError(pts, R, t, R, t), cv::Exception);
+    EXPECT_NEAR(0.0, adiError(mesh.vertices, R, t, R, t), 1e-9);
+}
+
 TEST(Forestmod_Pose, adi_equals_brute_force_nearest_neighbour)
 {
     RNG rng(2);
