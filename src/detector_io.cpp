@@ -418,11 +418,33 @@ void Detector::writeClass(const String& class_id, FileStorage& fs) const
     writeRecords(fs, impl_->store, class_id, tps.size());
 }
 
+// The file of a class: `format` with its one %s replaced by the class id (cv::linemod hands the
+// format to sprintf, where another conversion reads an argument that is not there).
+static String classFileName(const String& format, const String& class_id, const char* who)
+{
+    int ids = 0;
+    bool ok = true;
+    for (size_t i = 0; i < format.size() && ok; ++i)
+        if (format[i] == '%')
+        {
+            const char next = i + 1 < format.size() ? format[i + 1] : 0;
+            ids += next == 's';
+            ok = next == 's' || next == '%';
+            ++i;
+        }
+    if (!ok || ids != 1)
+        CV_Error_(Error::StsBadArg, ("%s: the format '%s' must hold one %%s (the class id) and no "
+                                     "other conversion (%%%% for a percent sign)", who,
+                                     format.c_str()));
+    return cv::format(format.c_str(), class_id.c_str());
+}
+
 void Detector::readClasses(const std::vector<String>& class_ids, const String& format)
 {
     for (size_t i = 0; i < class_ids.size(); ++i)
     {
-        const String filename = cv::format(format.c_str(), class_ids[i].c_str());
+        const String filename = classFileName(format, class_ids[i],
+                                               "forestmod::Detector::readClasses");
         FileStorage fs;
         detail::openModelText(fs, filename, "forestmod::Detector::readClasses");
         try
@@ -447,7 +469,9 @@ void Detector::writeClasses(const String& format) const
     for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
          it != class_templates.end(); ++it)
     {
-        const String filename = cv::format(format.c_str(), it->first.c_str());
+        const String filename = classFileName(format, it->first,
+                                               "forestmod::Detector::writeClasses");
+        detail::checkOutputFile(filename, true, "forestmod::Detector::writeClasses");
         FileStorage fs(filename, FileStorage::WRITE);
         if (!fs.isOpened())
             CV_Error_(Error::StsError, ("forestmod::Detector::writeClasses: cannot write '%s'",

@@ -529,6 +529,13 @@ TEST(Forestmod_HostileInputs, dangling_symlink_output_is_not_written_through)
         EXPECT_FALSE(utils::fs::exists(target));
     }
 
+    // nor writeClasses (the link is its file for the class "shape")
+    const std::string fmt = link.substr(0, link.size() - 4) + "%s.yml";
+    ASSERT_EQ(0, std::rename(link.c_str(), cv::format(fmt.c_str(), "shape").c_str()));
+    EXPECT_THROW(det->writeClasses(fmt), cv::Exception);
+    EXPECT_FALSE(utils::fs::exists(target));
+    ASSERT_EQ(0, std::rename(cv::format(fmt.c_str(), "shape").c_str(), link.c_str()));
+
     // nor does the BOP results writer write through it
     for (int overwrite = 0; overwrite < 2; ++overwrite)
         EXPECT_THROW(cv::forestmod::BopResultWriter(link, overwrite != 0), cv::Exception);
@@ -773,6 +780,37 @@ TEST(Forestmod_HostileInputs, failed_load_leaves_the_detector_unchanged)
     ASSERT_EQ(before.size(), after.size());
     for (size_t i = 0; i < before.size(); ++i)
         EXPECT_TRUE(before[i] == after[i]) << i;
+}
+
+// the class files' format holds one %s and no other conversion: cv::linemod hands it to sprintf,
+// which reads arguments that are not there for another one
+TEST(Forestmod_HostileInputs, class_file_formats)
+{
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    Mat color, mask;
+    shapeView(0, color, mask);
+    ASSERT_GE(det->addTemplate(std::vector<Mat>(2, color), "shape", mask), 0);
+    const std::string dir = cv::tempfile("_classes");
+    ASSERT_TRUE(utils::fs::createDirectory(dir));
+    const std::vector<String> ids(1, "shape");
+    const char* bad[] = { "%s_%s.yml", "%d.yml", "%n%s.yml", "class.yml", "%s_100%.yml" };
+    for (const char* b : bad)
+    {
+        expectRaises([&] { det->writeClasses(dir + "/" + b); }, Error::StsBadArg,
+                     "must hold one %s", b);
+        expectRaises([&] { det->readClasses(ids, dir + "/" + b); }, Error::StsBadArg,
+                     "must hold one %s", b);
+    }
+    std::vector<cv::String> written;
+    utils::fs::glob_relative(dir, "*", written);
+    EXPECT_TRUE(written.empty()) << "nothing written";
+    const std::string good = dir + "/100%%_%s.yml";
+    det->writeClasses(good);
+    ASSERT_TRUE(utils::fs::exists(dir + "/100%_shape.yml"));
+    Ptr<cv::forestmod::Detector> back = getDefaultForestLINE();
+    back->readClasses(ids, good);
+    EXPECT_EQ(1, back->numTemplates("shape"));
+    utils::fs::remove_all(dir);
 }
 
 // a copy of a detector is independent, as a copy of cv::linemod::Detector is (it shared the

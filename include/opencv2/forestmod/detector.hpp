@@ -556,6 +556,10 @@ public:
     void write(FileStorage& fs) const;
     String readClass(const FileNode& fn, const String& class_id_override = "");
     void writeClass(const String& class_id, FileStorage& fs) const;
+    /** As cv::linemod's: a file per class, `format` with its %s replaced by the class id. The
+    format must hold one %s and no other conversion (%% for a percent sign; StsBadArg otherwise:
+    cv::linemod hands it to sprintf). writeClasses replaces existing files, as cv::linemod's does,
+    but never writes through a dangling symbolic link. */
     CV_WRAP void readClasses(const std::vector<String>& class_ids,
                              const String& format = "templates_%s.yml.gz");
     CV_WRAP void writeClasses(const String& format = "templates_%s.yml.gz") const;
