@@ -119,17 +119,30 @@ static double requirePositive(const FileNode& parent, const String& key, double 
     return v;
 }
 
-// A pinhole camera matrix (what the detector and the pose stage accept).
-static void checkCameraMatrix(const Matx33d& K, const String& file, const String& where)
+// An image side: a whole number of pixels in [1, kMaxSide].
+static int requireSide(const FileNode& parent, const String& key, const String& file,
+                       const String& where)
 {
+    const double v = requirePositive(parent, key, kMaxSide, file, where);
+    if (v < 1 || v != std::floor(v))
+        CV_Error_(Error::StsParseError,
+                  ("BopDataset: '%s': %s, key '%s' must be a whole number of pixels, not %g",
+                   file.c_str(), where.c_str(), key.c_str(), v));
+    return (int)v;
+}
+
+// A pinhole camera matrix (what the detector and the pose stage accept), `key` its key or keys.
+static void checkCameraMatrix(const Matx33d& K, const String& file, const String& where,
+                              const String& key)
+{
+    const String place = cv::format("BopDataset: '%s': %s", file.c_str(), where.c_str());
     try
     {
-        detail::checkIntrinsics(K, "BopDataset", "K");
+        detail::checkIntrinsics(K, place.c_str(), key.c_str());
     }
     catch (const cv::Exception& e)
     {
-        CV_Error_(Error::StsParseError, ("BopDataset: '%s': %s: %s", file.c_str(), where.c_str(),
-                                         e.err.c_str()));
+        CV_Error(Error::StsParseError, e.err); // a file's content, not an argument
     }
 }
 
@@ -200,9 +213,9 @@ BopDataset BopDataset::open(const String& root, const String& split,
         const double cx = requireNumber(r, "cx", cam_file, w);
         const double cy = requireNumber(r, "cy", cam_file, w);
         ds.K_ = Matx33d(fx, 0, cx, 0, fy, cy, 0, 0, 1);
-        checkCameraMatrix(ds.K_, cam_file, w);
-        ds.size_ = Size(cvRound(requirePositive(r, "width", kMaxSide, cam_file, w)),
-                        cvRound(requirePositive(r, "height", kMaxSide, cam_file, w)));
+        checkCameraMatrix(ds.K_, cam_file, w, "fx, fy, cx, cy");
+        ds.size_ = Size(requireSide(r, "width", cam_file, w),
+                        requireSide(r, "height", cam_file, w));
         if (!r["depth_scale"].empty())
             ds.depth_scale_ = requirePositive(r, "depth_scale", kMaxDepthScale, cam_file, w);
     }
@@ -351,7 +364,7 @@ std::vector<Frame> BopDataset::frames(int scene_id) const
             const String w = "image '" + e.name() + "'";
             const std::vector<double> k = requireNumbers(e, "cam_K", 9, cam_file, w);
             fr.K = Matx33d(&k[0]);
-            checkCameraMatrix(fr.K, cam_file, w);
+            checkCameraMatrix(fr.K, cam_file, w, "cam_K");
             fr.depth_scale = e["depth_scale"].empty()
                                  ? depth_scale_
                                  : requirePositive(e, "depth_scale", kMaxDepthScale, cam_file, w);

@@ -57,10 +57,19 @@ Detector& Detector::operator=(const Detector& other)
 {
     if (&other == this)
         return *this;
-    AutoLock lock(other.impl_->mutex); // a consistent copy while other's match() trains
-    Ptr<DetectorImpl> copy = makePtr<DetectorImpl>(*other.impl_);
-    cv::linemod::Detector::operator=(other);
-    impl_ = copy;
+    // copied whole first (a consistent copy while other's match() trains), then swapped in: a
+    // copy that fails leaves this detector as it was
+    Detector copy;
+    {
+        AutoLock lock(other.impl_->mutex);
+        copy.impl_ = makePtr<DetectorImpl>(*other.impl_);
+        static_cast<cv::linemod::Detector&>(copy) = other;
+    }
+    modalities.swap(copy.modalities);
+    pyramid_levels = copy.pyramid_levels;
+    T_at_level.swap(copy.T_at_level);
+    class_templates.swap(copy.class_templates);
+    impl_.swap(copy.impl_);
     return *this;
 }
 

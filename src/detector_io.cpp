@@ -418,9 +418,9 @@ void Detector::writeClass(const String& class_id, FileStorage& fs) const
     writeRecords(fs, impl_->store, class_id, tps.size());
 }
 
-// The file of a class: `format` with its one %s replaced by the class id (cv::linemod hands the
+// Refuses a class files' format other than one %s (the class id) and %% (cv::linemod hands the
 // format to sprintf, where another conversion reads an argument that is not there).
-static String classFileName(const String& format, const String& class_id, const char* who)
+static void checkClassFormat(const String& format, const char* who)
 {
     int ids = 0;
     bool ok = true;
@@ -436,15 +436,14 @@ static String classFileName(const String& format, const String& class_id, const 
         CV_Error_(Error::StsBadArg, ("%s: the format '%s' must hold one %%s (the class id) and no "
                                      "other conversion (%%%% for a percent sign)", who,
                                      format.c_str()));
-    return cv::format(format.c_str(), class_id.c_str());
 }
 
 void Detector::readClasses(const std::vector<String>& class_ids, const String& format)
 {
+    checkClassFormat(format, "forestmod::Detector::readClasses");
     for (size_t i = 0; i < class_ids.size(); ++i)
     {
-        const String filename = classFileName(format, class_ids[i],
-                                               "forestmod::Detector::readClasses");
+        const String filename = cv::format(format.c_str(), class_ids[i].c_str());
         FileStorage fs;
         detail::openModelText(fs, filename, "forestmod::Detector::readClasses");
         try
@@ -466,11 +465,11 @@ void Detector::readClasses(const std::vector<String>& class_ids, const String& f
 
 void Detector::writeClasses(const String& format) const
 {
+    checkClassFormat(format, "forestmod::Detector::writeClasses");
     for (std::map<String, std::vector<TemplatePyramid> >::const_iterator it = class_templates.begin();
          it != class_templates.end(); ++it)
     {
-        const String filename = classFileName(format, it->first,
-                                               "forestmod::Detector::writeClasses");
+        const String filename = cv::format(format.c_str(), it->first.c_str());
         detail::checkOutputFile(filename, true, "forestmod::Detector::writeClasses");
         FileStorage fs(filename, FileStorage::WRITE);
         if (!fs.isOpened())

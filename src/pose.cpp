@@ -173,44 +173,46 @@ double depthAgreement(InputArray rendered_depth, InputArray scene_depth, double 
     return valid ? (double)agree / (double)valid : 0.0;
 }
 
-static bool finitePose(const Matx33d& R, const Vec3d& t)
+// The model points moved by (R, t); false when one of them is not finite (a non-finite pose, or
+// entries so large that the products overflow).
+static bool movedPoints(const std::vector<Point3f>& pts, const Matx33d& R, const Vec3d& t,
+                        std::vector<Vec3d>& out)
 {
-    bool ok = true;
-    for (int i = 0; i < 9; ++i)
-        ok = ok && std::isfinite(R.val[i]);
-    for (int i = 0; i < 3; ++i)
-        ok = ok && std::isfinite(t[i]);
-    return ok;
+    out.resize(pts.size());
+    bool finite = true;
+    for (size_t i = 0; i < pts.size(); ++i)
+    {
+        out[i] = R * Vec3d(pts[i].x, pts[i].y, pts[i].z) + t;
+        finite = finite && std::isfinite(out[i][0]) && std::isfinite(out[i][1])
+                 && std::isfinite(out[i][2]);
+    }
+    return finite;
 }
 
-// The inputs of the pose errors that must hold: model points, all finite (the k-d tree of
-// adiError needs an order), and a finite ground truth.
-static void checkErrorInputs(const std::vector<Point3f>& pts, const Matx33d& R_gt,
-                             const Vec3d& t_gt, const char* func)
+// The model points under the ground truth and the estimate: the ground truth must move every
+// point to a finite one (StsBadArg; adiError's k-d tree needs an order); false when the estimate
+// does not (the error is NaN then).
+static bool movedByBoth(const std::vector<Point3f>& pts, const Matx33d& R_est, const Vec3d& t_est,
+                        const Matx33d& R_gt, const Vec3d& t_gt, std::vector<Vec3d>& est,
+                        std::vector<Vec3d>& gt, const char* func)
 {
     if (pts.empty())
         CV_Error_(Error::StsBadArg, ("%s: no model points", func));
-    for (size_t i = 0; i < pts.size(); ++i)
-        if (!(std::isfinite(pts[i].x) && std::isfinite(pts[i].y) && std::isfinite(pts[i].z)))
-            CV_Error_(Error::StsBadArg, ("%s: model point %d is not finite", func, (int)i));
-    if (!finitePose(R_gt, t_gt))
-        CV_Error_(Error::StsBadArg, ("%s: the ground-truth pose is not finite", func));
-}
-
-static inline Vec3d transform(const Matx33d& R, const Vec3d& t, const Point3f& p)
-{
-    return R * Vec3d(p.x, p.y, p.z) + t;
+    if (!movedPoints(pts, R_gt, t_gt, gt))
+        CV_Error_(Error::StsBadArg, ("%s: a model point moved by the ground-truth pose is not "
+                                     "finite", func));
+    return movedPoints(pts, R_est, t_est, est);
 }
 
 double addError(const std::vector<Point3f>& pts, const Matx33d& R_est, const Vec3d& t_est,
                 const Matx33d& R_gt, const Vec3d& t_gt)
 {
-    checkErrorInputs(pts, R_gt, t_gt, "addError");
-    if (!finitePose(R_est, t_est))
+    std::vector<Vec3d> est, gt;
+    if (!movedByBoth(pts, R_est, t_est, R_gt, t_gt, est, gt, "addError"))
         return std::numeric_limits<double>::quiet_NaN();
     double sum = 0;
     for (size_t i = 0; i < pts.size(); ++i)
-        sum += norm(transform(R_est, t_est, pts[i]) - transform(R_gt, t_gt, pts[i]));
+        sum += norm(est[i] - gt[i]);
     return sum / (double)pts.size();
 }
 
@@ -303,15 +305,9 @@ private:
 double adiError(const std::vector<Point3f>& pts, const Matx33d& R_est, const Vec3d& t_est,
                 const Matx33d& R_gt, const Vec3d& t_gt)
 {
-    checkErrorInputs(pts, R_gt, t_gt, "adiError");
-    if (!finitePose(R_est, t_est))
+    std::vector<Vec3d> est, gt;
+    if (!movedByBoth(pts, R_est, t_est, R_gt, t_gt, est, gt, "adiError"))
         return std::numeric_limits<double>::quiet_NaN();
-    std::vector<Vec3d> gt(pts.size()), est(pts.size());
-    for (size_t i = 0; i < pts.size(); ++i)
-    {
-        gt[i] = transform(R_gt, t_gt, pts[i]);
-        est[i] = transform(R_est, t_est, pts[i]);
-    }
     KdTree3 tree(gt);
     // the queries are independent: sum per stripe, then in a fixed order (deterministic)
     const int stripes = 16;
@@ -335,15 +331,15 @@ double adiError(const std::vector<Point3f>& pts, const Matx33d& R_est, const Vec
 double projectionError2D(const std::vector<Point3f>& pts, const Matx33d& K, const Matx33d& R_est,
                          const Vec3d& t_est, const Matx33d& R_gt, const Vec3d& t_gt)
 {
-    checkErrorInputs(pts, R_gt, t_gt, "projectionError2D");
     checkIntrinsics(K, "projectionError2D", "K");
-    if (!finitePose(R_est, t_est))
+    std::vector<Vec3d> est, gt;
+    if (!movedByBoth(pts, R_est, t_est, R_gt, t_gt, est, gt, "projectionError2D"))
         return std::numeric_limits<double>::quiet_NaN();
     double sum = 0;
     for (size_t i = 0; i < pts.size(); ++i)
     {
-        const Vec3d a = K * transform(R_est, t_est, pts[i]);
-        const Vec3d b = K * transform(R_gt, t_gt, pts[i]);
+        const Vec3d a = K * est[i];
+        const Vec3d b = K * gt[i];
         if (!(a[2] > 0 && b[2] > 0))
             return std::numeric_limits<double>::infinity();
         sum += std::hypot(a[0] / a[2] - b[0] / b[2], a[1] / a[2] - b[1] / b[2]);

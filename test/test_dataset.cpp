@@ -331,6 +331,9 @@ TEST(Forestmod_Dataset, bad_files_raise_with_file_and_key)
     // and diameter, a camera matrix that is not a pinhole (the detector's and the pose stage's)
     const char* cam_bad[][2] = { { "\"fx\": 600.0", "\"fx\": 0" },
                                  { "\"width\": 64", "\"width\": 1e12" },
+                                 { "\"width\": 64", "\"width\": 0.4" },
+                                 { "\"width\": 64", "\"width\": 64.7" },
+                                 { "\"cx\": 320.5", "\"cx\": 1e999" },
                                  { "\"depth_scale\": 0.1", "\"depth_scale\": -0.1" } };
     for (const auto& b : cam_bad)
     {
@@ -355,6 +358,7 @@ TEST(Forestmod_Dataset, bad_files_raise_with_file_and_key)
     msg = errorOf([&]() { BopDataset::open(root).frames(5); });
     EXPECT_TRUE(contains(msg, "scene_camera.json")) << msg;
     EXPECT_TRUE(contains(msg, "image '0'")) << msg;
+    EXPECT_TRUE(contains(msg, "cam_K is not a pinhole")) << msg;
     sc = kSceneCamera;
     sc.replace(sc.find("\"depth_scale\": 0.5"), 18, "\"depth_scale\": 0");
     writeText(root + "/test/000005/scene_camera.json", sc);

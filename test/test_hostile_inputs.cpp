@@ -33,6 +33,22 @@ static void writeFile(const std::string& path, const std::string& text)
 }
 
 // A small shape drawn in view i (rotated, stretched), with its mask.
+// runs f, which must raise a cv::Exception of `code` whose message holds `needle`
+template <typename F>
+static void expectRaises(F f, int code, const std::string& needle, const std::string& what)
+{
+    try
+    {
+        f();
+        ADD_FAILURE() << what << ": no exception";
+    }
+    catch (const cv::Exception& e)
+    {
+        EXPECT_EQ(code, e.code) << what << ": " << e.err;
+        EXPECT_NE(std::string::npos, e.err.find(needle)) << what << ": " << e.err;
+    }
+}
+
 static void shapeView(int i, Mat& color, Mat& mask)
 {
     color = Mat(160, 160, CV_8UC3, Scalar(0, 0, 0));
@@ -532,7 +548,8 @@ TEST(Forestmod_HostileInputs, dangling_symlink_output_is_not_written_through)
     // nor writeClasses (the link is its file for the class "shape")
     const std::string fmt = link.substr(0, link.size() - 4) + "%s.yml";
     ASSERT_EQ(0, std::rename(link.c_str(), cv::format(fmt.c_str(), "shape").c_str()));
-    EXPECT_THROW(det->writeClasses(fmt), cv::Exception);
+    expectRaises([&] { det->writeClasses(fmt); }, Error::StsError, "dangling symbolic link",
+                 "writeClasses");
     EXPECT_FALSE(utils::fs::exists(target));
     ASSERT_EQ(0, std::rename(cv::format(fmt.c_str(), "shape").c_str(), link.c_str()));
 
@@ -690,22 +707,6 @@ TEST(Forestmod_HostileInputs, fuzz_seeds_load_and_fuzz_findings_are_refused)
 
 // ---- the public API's own inputs ------------------------------------------------------------
 
-// runs f, which must raise a cv::Exception of `code` whose message holds `needle`
-template <typename F>
-static void expectRaises(F f, int code, const std::string& needle, const std::string& what)
-{
-    try
-    {
-        f();
-        ADD_FAILURE() << what << ": no exception";
-    }
-    catch (const cv::Exception& e)
-    {
-        EXPECT_EQ(code, e.code) << what << ": " << e.err;
-        EXPECT_NE(std::string::npos, e.err.find(needle)) << what << ": " << e.err;
-    }
-}
-
 // addSyntheticTemplate and addTemplate refuse what load() refuses (a label the search indexes
 // out of bounds crashed match(); a pose that load() refuses made a model that could be saved but
 // not loaded), and add nothing then
@@ -804,6 +805,11 @@ TEST(Forestmod_HostileInputs, class_file_formats)
     std::vector<cv::String> written;
     utils::fs::glob_relative(dir, "*", written);
     EXPECT_TRUE(written.empty()) << "nothing written";
+    // checked before any class: also with no class, or no class id
+    expectRaises([&] { getDefaultForestLINE()->writeClasses(dir + "/%d.yml"); }, Error::StsBadArg,
+                 "must hold one %s", "no class");
+    expectRaises([&] { det->readClasses(std::vector<String>(), dir + "/%d.yml"); },
+                 Error::StsBadArg, "must hold one %s", "no class id");
     const std::string good = dir + "/100%%_%s.yml";
     det->writeClasses(good);
     ASSERT_TRUE(utils::fs::exists(dir + "/100%_shape.yml"));
@@ -827,8 +833,16 @@ TEST(Forestmod_HostileInputs, copies_of_a_detector_are_independent)
     std::vector<linemod::Match> before, m;
     det.match(scene, 80.f, before);
     ASSERT_FALSE(before.empty());
+    cv::forestmod::Mesh tetra;
+    tetra.vertices = { Point3f(0, 0, 0), Point3f(40, 0, 0), Point3f(0, 40, 0), Point3f(0, 0, 40) };
+    tetra.faces = { Vec3i(0, 2, 1), Vec3i(0, 1, 3), Vec3i(0, 3, 2), Vec3i(1, 2, 3) };
+    det.setMesh("shape", tetra);
     cv::forestmod::Detector copy = det;
     EXPECT_TRUE(copy.isTrained()) << "the trained forests are copied";
+    EXPECT_TRUE(copy.hasMesh("shape")) << "and the meshes";
+    copy = copy; // self-assignment changes nothing
+    EXPECT_EQ(3, copy.numTemplates());
+    EXPECT_TRUE(copy.hasMesh("shape"));
     copy.match(scene, 80.f, m);
     ASSERT_EQ(before.size(), m.size());
     Mat color, mask;
@@ -853,8 +867,12 @@ TEST(Forestmod_HostileInputs, copies_of_a_detector_are_independent)
     EXPECT_EQ(4, assigned->numTemplates());
     EXPECT_EQ(2, assigned->numClasses());
     EXPECT_EQ(0.f, assigned->getParams().nms_iou);
+    copy.setMesh("other", tetra);
+    EXPECT_FALSE(det.hasMesh("other"));
     *assigned = det;
     EXPECT_EQ(3, assigned->numTemplates());
+    EXPECT_TRUE(assigned->hasMesh("shape"));
+    EXPECT_FALSE(assigned->hasMesh("other"));
     EXPECT_EQ(4, copy.numTemplates());
     ASSERT_NO_THROW(assigned->match(scene, 80.f, m));
     EXPECT_EQ(before.size(), m.size());

@@ -719,8 +719,9 @@ TEST(Forestmod_Pose, add_of_a_pure_translation_is_its_length)
     EXPECT_THROW(adiError(std::vector<Point3f>(), R, t, R, t), cv::Exception);
 }
 
-// The pose errors of a non-finite estimate are NaN (the k-d tree's nearest point had made ADI
-// finite), and a non-finite ground truth or model point is refused.
+// The pose errors of an estimate that moves a model point to a non-finite one are NaN (the k-d
+// tree's nearest point had made ADI finite); such a ground truth, or a non-finite model point, is
+// refused.
 TEST(Forestmod_Pose, errors_of_non_finite_poses)
 {
     const Mesh& mesh = apeMesh();
@@ -740,6 +741,12 @@ TEST(Forestmod_Pose, errors_of_non_finite_poses)
     std::vector<Point3f> pts = mesh.vertices;
     pts[5].y = std::numeric_limits<float>::quiet_NaN();
     EXPECT_THROW(adiError(pts, R, t, R, t), cv::Exception);
+    // finite entries whose products overflow: the same
+    Matx33d R_huge = R;
+    R_huge(0, 1) = 1e308;
+    EXPECT_TRUE(cvIsNaN(adiError(mesh.vertices, R_huge, t, R, t)));
+    EXPECT_TRUE(cvIsNaN(addError(mesh.vertices, R_huge, t, R, t)));
+    EXPECT_THROW(adiError(mesh.vertices, R, t, R_huge, t), cv::Exception);
     EXPECT_NEAR(0.0, adiError(mesh.vertices, R, t, R, t), 1e-9);
 }
 

@@ -370,7 +370,9 @@ public:
                      const DetectorParams& params = DetectorParams());
     ~Detector();
     /** An independent copy, as cv::linemod::Detector's: the templates, parameters, trained
-    forests and meshes; adding templates to one leaves the other as it is. */
+    forests and meshes; adding templates to one leaves the other as it is. As in cv::linemod the
+    modalities are shared, and so are the trained forests until either detector trains again
+    (getForest() of both gives the same object: train it through the detector, not directly). */
     Detector(const Detector& other);
     Detector& operator=(const Detector& other);
 

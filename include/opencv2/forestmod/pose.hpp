@@ -392,9 +392,9 @@ CV_EXPORTS double depthAgreement(InputArray rendered_depth, InputArray scene_dep
 /** @brief ADD (Hinterstoisser et al. ACCV 2012): mean distance (mm) between the model points
 moved by the estimated and by the ground-truth pose.
 
-In addError, adiError and projectionError2D the model points (at least one) and the ground-truth
-pose must be finite (StsBadArg); an estimated pose with a non-finite entry gives NaN, which
-passes no threshold. */
+In addError, adiError and projectionError2D the model points (at least one) moved by the
+ground-truth pose must be finite (StsBadArg); an estimated pose that moves one to a non-finite
+point gives NaN, which passes no threshold. */
 CV_EXPORTS double addError(const std::vector<Point3f>& pts, const Matx33d& R_est,
                            const Vec3d& t_est, const Matx33d& R_gt, const Vec3d& t_gt);
 
