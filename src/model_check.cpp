@@ -348,8 +348,7 @@ String readModelText(const String& filename, const char* func)
 #ifdef HAVE_FORESTMOD_ZLIB
     gzFile f = gzopen(filename.c_str(), "rb"); // plain files pass through
     if (!f)
-        CV_Error_(Error::StsError, ("%s: cannot open '%s'",
-                                    func, filename.c_str()));
+        CV_Error_(Error::StsError, ("%s: cannot open '%s'", func, filename.c_str()));
     std::vector<char> buf(1 << 16);
     for (;;)
     {
@@ -357,8 +356,8 @@ String readModelText(const String& filename, const char* func)
         if (got < 0)
         {
             gzclose(f);
-            CV_Error_(Error::StsParseError, ("%s: '%s' is not a readable "
-                                             "(gzip) file", func, filename.c_str()));
+            CV_Error_(Error::StsParseError, ("%s: '%s' is not a readable (gzip) file", func,
+                                             filename.c_str()));
         }
         if (got == 0)
             break;
@@ -366,29 +365,28 @@ String readModelText(const String& filename, const char* func)
         if (text.size() > MAX_MODEL_TEXT_BYTES)
         {
             gzclose(f);
-            CV_Error_(Error::StsOutOfRange, ("%s: '%s' holds more than "
-                                             "1 GiB of text", func, filename.c_str()));
+            CV_Error_(Error::StsOutOfRange, ("%s: '%s' holds more than 1 GiB of text", func,
+                                             filename.c_str()));
         }
     }
     gzclose(f);
 #else
     std::ifstream f(filename.c_str(), std::ios::binary);
     if (!f.good())
-        CV_Error_(Error::StsError, ("%s: cannot open '%s'",
-                                    func, filename.c_str()));
+        CV_Error_(Error::StsError, ("%s: cannot open '%s'", func, filename.c_str()));
     std::ostringstream ss;
     ss << f.rdbuf();
     text = ss.str();
     if (text.size() > MAX_MODEL_TEXT_BYTES)
-        CV_Error_(Error::StsOutOfRange, ("%s: '%s' holds more than 1 GiB",
-                                         func, filename.c_str()));
+        CV_Error_(Error::StsOutOfRange, ("%s: '%s' holds more than 1 GiB of text", func,
+                                         filename.c_str()));
+    // a build without zlib cannot read gzip files (OpenCV's FileStorage reads them with it)
     if (text.size() >= 2 && (uchar)text[0] == 0x1f && (uchar)text[1] == 0x8b)
-        CV_Error_(Error::StsNotImplemented, ("%s: '%s' is compressed and "
-                                             "this build has no zlib", func, filename.c_str()));
+        CV_Error_(Error::StsUnsupportedFormat, ("%s: '%s' is compressed and this build has no "
+                                                "zlib", func, filename.c_str()));
 #endif
     if (text.empty())
-        CV_Error_(Error::StsParseError, ("%s: '%s' is empty",
-                                         func, filename.c_str()));
+        CV_Error_(Error::StsParseError, ("%s: '%s' is empty", func, filename.c_str()));
     checkBase64Blocks(text, filename);
     checkYamlDirective(text, filename);
     checkBrackets(text, filename);
@@ -593,14 +591,12 @@ void checkTemplatePyramid(const TemplatePyramid& tp, int M, int levels, const St
                           int code)
 {
     if (M < 1 || levels < 1 || (int)tp.size() != M * levels)
-        CV_Error_(code, ("%s: %d templates, %d modalities x %d "
-                         "levels expected", where.c_str(), (int)tp.size(), M,
-                         levels));
+        CV_Error_(code, ("%s: %d templates, %d modalities x %d levels expected",
+                         where.c_str(), (int)tp.size(), M, levels));
     const int w0 = tp[0].width, h0 = tp[0].height;
     if (w0 < 1 || h0 < 1 || w0 > MAX_TEMPLATE_SIZE || h0 > MAX_TEMPLATE_SIZE)
-        CV_Error_(code, ("%s: template size %d x %d, expected "
-                         "1..%d pixels", where.c_str(), w0, h0,
-                         (int)MAX_TEMPLATE_SIZE));
+        CV_Error_(code, ("%s: template size %d x %d, expected 1..%d pixels",
+                         where.c_str(), w0, h0, (int)MAX_TEMPLATE_SIZE));
     for (int l = 0; l < levels; ++l)
     {
         size_t level_features = 0;
@@ -608,37 +604,32 @@ void checkTemplatePyramid(const TemplatePyramid& tp, int M, int levels, const St
         {
             const Template& t = tp[l * M + m];
             if (t.pyramid_level != l)
-                CV_Error_(code, ("%s: template %d has "
-                                 "pyramid_level %d, expected %d", where.c_str(),
-                                 l * M + m, t.pyramid_level, l));
+                CV_Error_(code, ("%s: template %d has pyramid_level %d, expected %d",
+                                 where.c_str(), l * M + m, t.pyramid_level, l));
             if (t.width != (w0 >> l) || t.height != (h0 >> l))
-                CV_Error_(code, ("%s: template %d (level %d) is "
-                                 "%d x %d, the level-0 size %d x %d >> %d "
-                                 "expected", where.c_str(), l * M + m, l,
-                                 t.width, t.height, w0, h0, l));
+                CV_Error_(code, ("%s: template %d (level %d) is %d x %d, the level-0 size %d x %d "
+                                 ">> %d expected", where.c_str(), l * M + m, l, t.width, t.height,
+                                 w0, h0, l));
             if (t.features.size() > (size_t)MAX_TEMPLATE_FEATURES)
-                CV_Error_(code, ("%s: template %d has %d "
-                                 "features, at most %d", where.c_str(), l * M + m,
-                                 (int)t.features.size(),
+                CV_Error_(code, ("%s: template %d has %d features, at most %d",
+                                 where.c_str(), l * M + m, (int)t.features.size(),
                                  (int)MAX_TEMPLATE_FEATURES));
             for (size_t j = 0; j < t.features.size(); ++j)
             {
                 const Feature& f = t.features[j];
                 if (f.label < 0 || f.label > 7)
-                    CV_Error_(code, ("%s: template %d, feature "
-                                     "%d: label %d, expected 0..7",
+                    CV_Error_(code, ("%s: template %d, feature %d: label %d, expected 0..7",
                                      where.c_str(), l * M + m, (int)j, f.label));
                 if (f.x < 0 || f.y < 0 || f.x > t.width || f.y > t.height)
-                    CV_Error_(code, ("%s: template %d, feature "
-                                     "%d at (%d, %d) lies outside the template "
-                                     "(%d x %d)", where.c_str(), l * M + m,
-                                     (int)j, f.x, f.y, t.width, t.height));
+                    CV_Error_(code, ("%s: template %d, feature %d at (%d, %d) lies outside the "
+                                     "template (%d x %d)", where.c_str(), l * M + m, (int)j, f.x,
+                                     f.y, t.width, t.height));
             }
             level_features += t.features.size();
         }
         if (level_features == 0)
-            CV_Error_(code, ("%s: no feature at pyramid level %d "
-                             "(empty 'features')", where.c_str(), l));
+            CV_Error_(code, ("%s: no feature at pyramid level %d (empty 'features')",
+                             where.c_str(), l));
     }
 }
 
@@ -653,31 +644,26 @@ void checkTemplatePose(const TemplatePose& p, const Template& t0, const String& 
     for (int i = 0; i < 3; ++i)
         ok = ok && finite(p.t[i]) && std::abs(p.t[i]) <= 1e9;
     if (!ok)
-        CV_Error_(code, ("%s: pose R, t or K not finite (or "
-                         "absurdly large)", where.c_str()));
+        CV_Error_(code, ("%s: pose R, t or K not finite (or absurdly large)", where.c_str()));
     if (!(p.t[2] > 0))
-        CV_Error_(code, ("%s: pose t_z is %g mm, the object must "
-                         "be in front of the camera", where.c_str(), p.t[2]));
+        CV_Error_(code, ("%s: pose t_z is %g mm, the object must be in front of the camera",
+                         where.c_str(), p.t[2]));
     if (!(p.K(0, 0) >= 1) || !(p.K(1, 1) >= 1))
-        CV_Error_(code, ("%s: pose K has focal lengths %g, %g; "
-                         "they must be at least 1 pixel", where.c_str(),
-                         p.K(0, 0), p.K(1, 1)));
+        CV_Error_(code, ("%s: pose K has focal lengths %g, %g; they must be at least 1 pixel",
+                         where.c_str(), p.K(0, 0), p.K(1, 1)));
     if (p.K(2, 0) != 0 || p.K(2, 1) != 0 || p.K(2, 2) != 1)
-        CV_Error_(code, ("%s: pose K's last row is (%g, %g, %g), "
-                         "expected (0, 0, 1)", where.c_str(), p.K(2, 0),
-                         p.K(2, 1), p.K(2, 2)));
+        CV_Error_(code, ("%s: pose K's last row is (%g, %g, %g), expected (0, 0, 1)",
+                         where.c_str(), p.K(2, 0), p.K(2, 1), p.K(2, 2)));
     const Vec3d c = p.K * p.t; // the object centre's projection, used by the depth modality
     if (!(std::abs(c[0]) <= 1e6 * c[2]) || !(std::abs(c[1]) <= 1e6 * c[2]))
-        CV_Error_(code, ("%s: the object centre projects to "
-                         "(%g, %g), beyond 1e6 pixels", where.c_str(),
-                         c[0] / c[2], c[1] / c[2]));
+        CV_Error_(code, ("%s: the object centre projects to (%g, %g), beyond 1e6 pixels",
+                         where.c_str(), c[0] / c[2], c[1] / c[2]));
     if (p.box.width != t0.width || p.box.height != t0.height)
-        CV_Error_(code, ("%s: pose box %d x %d, the template is "
-                         "%d x %d", where.c_str(), p.box.width, p.box.height,
-                         t0.width, t0.height));
+        CV_Error_(code, ("%s: pose box %d x %d, the template is %d x %d",
+                         where.c_str(), p.box.width, p.box.height, t0.width, t0.height));
     if (p.box.x < 0 || p.box.y < 0 || p.box.x > 65535 || p.box.y > 65535)
-        CV_Error_(code, ("%s: pose box at (%d, %d), expected "
-                         "0..65535", where.c_str(), p.box.x, p.box.y));
+        CV_Error_(code, ("%s: pose box at (%d, %d), expected 0..65535",
+                         where.c_str(), p.box.x, p.box.y));
 }
 
 void checkDensePatch(const DensePatch& patch, const Template& top, int M, const String& where)
