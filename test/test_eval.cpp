@@ -350,6 +350,43 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
                     EXPECT_EQ(8, (int)pf[f]["hypotheses"][0].size()) << what << " " << vrow;
                 }
         }
+        // template coverage: each ground truth seen along its line of sight against the nearest
+        // of the templates (the eval's sampler: level 0, from 0 degrees up, 700 mm, in-plane 0)
+        {
+            ViewSampler::Params sp = ViewSampler::Params::coarse();
+            sp.level = 0;
+            sp.min_elevation = 0;
+            sp.radii.assign(1, 700.0);
+            sp.inplane_min = sp.inplane_max = 0;
+            const Mesh mesh = Mesh::load(data.root + cv::format("/models/obj_%06d.ply", i + 1));
+            const std::vector<ViewPose> views = ViewSampler(sp).poses(Point3d(mesh.center()));
+            const std::vector<Frame> bop = BopDataset::open(data.root).frames(1);
+            std::vector<double> angles;
+            for (size_t f = 0; f < bop.size(); ++f)
+                for (size_t g = 0; g < bop[f].gt.size(); ++g)
+                    if (bop[f].gt[g].obj_id == i + 1)
+                    {
+                        const GroundTruth& gt = bop[f].gt[g];
+                        const Point3f c = mesh.center();
+                        const Vec3d ray = gt.R * Vec3d(c.x, c.y, c.z) + gt.t;
+                        // the camera turned about ray x z until the ray lies on the optical axis
+                        const Vec3d axis = ray.cross(Vec3d(0, 0, 1));
+                        Matx33d Rc;
+                        cv::Rodrigues(axis * (std::acos(ray[2] / cv::norm(ray)) / cv::norm(axis)),
+                                      Rc);
+                        double best = 180;
+                        for (size_t v = 0; v < views.size(); ++v)
+                            best = std::min(best, std::acos(std::min(1.0, (cv::trace(views[v].R
+                                * (Rc * gt.R).t()) - 1) / 2)) * 180 / CV_PI);
+                        angles.push_back(best);
+                    }
+            ASSERT_EQ(5u, angles.size()) << what;
+            std::sort(angles.begin(), angles.end());
+            const cv::FileNode cov = o["template_coverage_deg"];
+            EXPECT_NEAR(angles[2], number(cov["median"]), 0.01) << what;
+            EXPECT_NEAR(angles[4], number(cov["max"]), 0.01) << what;
+            EXPECT_GT(angles[4], 1.0) << what << ": the objects lie off the optical axis";
+        }
         if (i == 0)
         {
             // the ape is shown at template poses: both detectors must find it

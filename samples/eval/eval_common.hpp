@@ -235,6 +235,13 @@ cv::Ptr<fm::Detector> objectTemplates(const EvalOptions& opt, ObjectInfo& obj,
                                       const TemplateSetup& setup, Progress& progress,
                                       double& render_s);
 
+/** For every ground truth of obj in frames, the rotation (degrees) from it to the nearest of the
+detector's templates of obj's class, the ground truth turned as seen along its line of sight (a
+template is drawn on the optical axis) and taken at the nearest of its discrete symmetries: how
+well the templates cover the poses, whatever the matching. */
+std::vector<double> templateCoverage(const fm::Detector& det, const ObjectInfo& obj,
+                                     const std::vector<EvalFrame>& frames);
+
 using cv::forestmod::samples::linemodCopy;
 using cv::forestmod::samples::sourcesOf;
 

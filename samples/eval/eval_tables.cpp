@@ -73,6 +73,22 @@ static void printSimilarityOnTheObject(const std::vector<ObjectInfo>& objects,
            "modalities and its best match on the object (threshold 50).\n");
 }
 
+// Per object, how far its ground-truth poses lie from the nearest template (templateCoverage).
+static void printTemplateCoverage(const std::vector<ObjectInfo>& objects,
+                                  const std::vector<std::vector<double> >& coverage)
+{
+    printf("\n## Template coverage\n\n| object | ground truths | nearest template (deg): median / "
+           "90 %% / max |\n|---|---|---|\n");
+    for (size_t o = 0; o < objects.size(); ++o)
+        printf("| %s | %d | %s / %s / %s |\n", objects[o].name.c_str(), (int)coverage[o].size(),
+               num(median(coverage[o]), "%.1f").c_str(),
+               num(quantile(coverage[o], 0.9), "%.1f").c_str(),
+               num(quantile(coverage[o], 1), "%.1f").c_str());
+    printf("\nThe rotation from each ground-truth pose, seen along its line of sight and taken at "
+           "the nearest of its symmetries, to the nearest template's: what no matcher can do "
+           "better than with these templates.\n");
+}
+
 int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
               const std::vector<EvalFrame>& frames, const TemplateSetup& setup, bool use_depth,
               cv::FileStorage& fs)
@@ -122,6 +138,7 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
     // the same hypotheses re-ranked by the verification stage (Detector::verify)
     std::vector<Result> r1v(objects.size()), rlv(objects.size());
     std::vector<double> train1(objects.size()), train5(objects.size());
+    std::vector<std::vector<double> > coverage(objects.size());
     std::vector<std::pair<int, cv::Mat> > heat_single, heat_all;
     std::vector<std::string> skipped;
     for (size_t o = 0; o < objects.size(); ++o)
@@ -137,6 +154,7 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
         }
         std::vector<ObjectInfo*> one(1, &obj);
         const int oi = opt.synthetic > 0 ? (int)o : -1;
+        coverage[o] = templateCoverage(*det, obj, frames);
         fm::DetectorParams p = det->getParams();
         p.nms_iou = 0; // matches as cv::linemod returns them: the pose choice sees them all
         for (int trees = 1; trees <= (opt.five_trees ? 5 : 1); trees += 4)
@@ -175,6 +193,7 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
                 rlv[k] = rlv[o];
                 train1[k] = train1[o];
                 train5[k] = train5[o];
+                coverage[k] = coverage[o];
                 render[k] = render[o];
                 ++k;
             }
@@ -285,6 +304,7 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
     }
     if (opt.gt_similarity)
         printSimilarityOnTheObject(objects, r1, rl);
+    printTemplateCoverage(objects, coverage);
     printf("\nT_quant: forestmod's DetectionStats::t_quantize_ms (modalities, spreading, response "
            "maps); cv::linemod's modalities' process + pyrDown + quantize of every level, timed "
            "apart on the same frame (its spreading and response maps are in T_total only).\n");
@@ -340,6 +360,10 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
             fs << "{";
             fs << "obj_id" << objects[o].obj_id << "name" << objects[o].name;
             fs << "templates" << objects[o].templates;
+            fs << "template_coverage_deg" << "{";
+            writeNumber(fs, "median", median(coverage[o]));
+            writeNumber(fs, "max", quantile(coverage[o], 1));
+            fs << "}";
             writeResult(fs, "forestmod", r1[o], true);
             writeResult(fs, "forestmod_5", r5[o], true);
             writeResult(fs, "linemod", rl[o], true);

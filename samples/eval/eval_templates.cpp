@@ -7,6 +7,7 @@
 
 #include "eval_common.hpp"
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/core/utils/filesystem.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -265,6 +266,56 @@ ObjectInfo objectVariant(const ObjectInfo& obj, int k)
     v.templates = 0;
     v.cache_file.clear();
     return v;
+}
+
+// The rotation that turns the line of sight through p (camera frame) onto the optical axis.
+static cv::Matx33d alongOpticalAxis(const cv::Vec3d& p)
+{
+    const cv::Vec3d z = p * (1.0 / cv::norm(p));
+    const cv::Vec3d axis = z.cross(cv::Vec3d(0, 0, 1));
+    const double s = cv::norm(axis);
+    if (s < 1e-12)
+        return cv::Matx33d::eye();
+    cv::Matx33d Rc;
+    cv::Rodrigues(axis * (std::atan2(s, z[2]) / s), Rc);
+    return Rc;
+}
+
+std::vector<double> templateCoverage(const fm::Detector& det, const ObjectInfo& obj,
+                                     const std::vector<EvalFrame>& frames)
+{
+    std::vector<cv::Matx33d> views;
+    const int n = det.numTemplates(obj.class_id);
+    for (int i = 0; i < n; ++i)
+    {
+        const fm::TemplatePose tp = det.getTemplatePose(obj.class_id, i);
+        if (tp.valid)
+            views.push_back(tp.R);
+    }
+    std::vector<double> angles;
+    const cv::Point3f c = obj.mesh.center();
+    for (size_t f = 0; f < frames.size(); ++f)
+        for (size_t g = 0; g < frames[f].gt.size(); ++g)
+        {
+            const fm::GroundTruth& gt = frames[f].gt[g];
+            if (gt.obj_id != obj.obj_id || views.empty())
+                continue;
+            const cv::Matx33d Rc = alongOpticalAxis(gt.R * cv::Vec3d(c.x, c.y, c.z) + gt.t);
+            std::vector<cv::Matx33d> truths(1, Rc * gt.R);
+            for (size_t s = 0; s < obj.symmetries.size(); ++s)
+            {
+                const cv::Matx44d& S = obj.symmetries[s];
+                truths.push_back(Rc * gt.R * cv::Matx33d(S(0, 0), S(0, 1), S(0, 2), S(1, 0),
+                                                         S(1, 1), S(1, 2), S(2, 0), S(2, 1),
+                                                         S(2, 2)));
+            }
+            double best_cos = -1; // cos of the angle: (trace(A B^T) - 1) / 2
+            for (size_t v = 0; v < views.size(); ++v)
+                for (size_t t = 0; t < truths.size(); ++t)
+                    best_cos = std::max(best_cos, (cv::trace(views[v] * truths[t].t()) - 1) / 2);
+            angles.push_back(std::acos(std::min(1.0, best_cos)) * 180.0 / CV_PI);
+        }
+    return angles;
 }
 
 } // namespace fmeval
