@@ -85,8 +85,8 @@ static void printTemplateCoverage(const std::vector<ObjectInfo>& objects,
                num(quantile(coverage[o], 0.9), "%.1f").c_str(),
                num(quantile(coverage[o], 1), "%.1f").c_str());
     printf("\nThe rotation from each ground-truth pose, seen along its line of sight and taken at "
-           "the nearest of its symmetries, to the nearest template's: what no matcher can do "
-           "better than with these templates.\n");
+           "the nearest of its symmetries, to the nearest template's: no matcher of these "
+           "templates finds a closer view.\n");
 }
 
 int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
