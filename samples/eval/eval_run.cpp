@@ -58,8 +58,7 @@ static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::Gro
         for (size_t s = 0; s < obj.symmetries.size(); ++s)
         {
             const cv::Matx44d& S = obj.symmetries[s];
-            const cv::Matx33d SR(S(0, 0), S(0, 1), S(0, 2), S(1, 0), S(1, 1), S(1, 2), S(2, 0),
-                                 S(2, 1), S(2, 2));
+            const cv::Matx33d SR = S.get_minor<3, 3>(0, 0);
             const cv::Vec3d St(S(0, 3), S(1, 3), S(2, 3));
             proj = std::min(proj, fm::projectionError2D(obj.pts, f.K, h.R, h.t, gt.R * SR,
                                                         gt.R * St + gt.t));

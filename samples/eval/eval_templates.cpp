@@ -303,12 +303,7 @@ std::vector<double> templateCoverage(const fm::Detector& det, const ObjectInfo& 
             const cv::Matx33d Rc = alongOpticalAxis(gt.R * cv::Vec3d(c.x, c.y, c.z) + gt.t);
             std::vector<cv::Matx33d> truths(1, Rc * gt.R);
             for (size_t s = 0; s < obj.symmetries.size(); ++s)
-            {
-                const cv::Matx44d& S = obj.symmetries[s];
-                truths.push_back(Rc * gt.R * cv::Matx33d(S(0, 0), S(0, 1), S(0, 2), S(1, 0),
-                                                         S(1, 1), S(1, 2), S(2, 0), S(2, 1),
-                                                         S(2, 2)));
-            }
+                truths.push_back(Rc * gt.R * obj.symmetries[s].get_minor<3, 3>(0, 0));
             double best_cos = -1; // cos of the angle: (trace(A B^T) - 1) / 2
             for (size_t v = 0; v < views.size(); ++v)
                 for (size_t t = 0; t < truths.size(); ++t)
