@@ -122,31 +122,6 @@ PERF_TEST(Forestmod_Pose, refinePoseEdges_VGA)
     SANITY_CHECK_NOTHING();
 }
 
-/** A match whose template pose is (R, t) with intrinsics K, placed where that pose projects the
-mesh: its initial pose in a frame of the same K is (R, t) itself. */
-static PoseMatch matchAtPose(const Mesh& mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t)
-{
-    std::vector<Point2f> px;
-    for (size_t i = 0; i < mesh.vertices.size(); ++i)
-    {
-        const Vec3d q = K * (R * Vec3d(mesh.vertices[i].x, mesh.vertices[i].y,
-                                       mesh.vertices[i].z) + t);
-        px.push_back(Point2f((float)(q[0] / q[2]), (float)(q[1] / q[2])));
-    }
-    PoseMatch m;
-    m.class_id = "ape";
-    m.pose.R = R;
-    m.pose.t = t;
-    m.pose.K = K;
-    m.pose.box = boundingRect(px);
-    m.pose.valid = true;
-    m.box = m.pose.box;
-    m.x = m.box.x;
-    m.y = m.box.y;
-    m.similarity = 90.f;
-    return m;
-}
-
 // Without depth: Detector::choosePoses of one location of 16 matches (the rendered ape pasted on a
 // real frame; the matches' poses turned 4-40 degrees from the truth), the param being
 // PoseParams::rgb_keep: 4 (the default) refines the 4 best fits after the first pass to the end,

@@ -12,6 +12,7 @@
 #include "verification.hpp"
 #include "edge_gradient.hpp"
 #include "pose_refine.hpp"
+#include "opencv2/core/hal/intrin.hpp"
 
 #include <map>
 
@@ -202,11 +203,34 @@ static inline bool colourAgrees(int hm, int hs, int tol)
     return d <= tol;
 }
 
+// f(x) for each x < n with row[x] != 0, in order; whole vectors of zeros skipped (the drawn
+// masks, their interiors and contours leave most of a crop's bytes 0).
+template <typename F>
+static inline void forEachNonZero(const uchar* row, int n, F f)
+{
+    int x = 0;
+#if CV_SIMD
+    const v_uint8 zero = vx_setzero_u8();
+    for (; x + v_uint8::nlanes <= n; x += v_uint8::nlanes)
+    {
+        if (!v_check_any(vx_load(row + x) != zero))
+            continue;
+        for (int k = x; k < x + v_uint8::nlanes; ++k)
+            if (row[k])
+                f(k);
+    }
+#endif
+    for (; x < n; ++x)
+        if (row[x])
+            f(x);
+}
+
 // Colour and depth agreement on the interior of the drawn mask; `state` receives per interior
 // pixel 0 no sample, 1 agrees, 2 disagrees, 3 occluded (depth nearer). Returns the share of
-// visible samples whose colour agrees.
-static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scene_depth,
-                            const VerificationParams& p, Mat& state, PoseMatch& m)
+// visible samples whose colour agrees. `inner`: the mask eroded once (3 x 3).
+static double scoreInterior(const Rendered& r, const Mat& inner, const Mat& hsv_s,
+                            const Mat& scene_depth, const VerificationParams& p, Mat& state,
+                            PoseMatch& m)
 {
     const Size sz = r.rect.size();
     const int min_s = cvRound(255 * p.min_saturation), min_v = cvRound(255 * p.min_value);
@@ -216,7 +240,7 @@ static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scen
     const Mat depth = with_depth ? scene_depth(r.rect) : Mat();
     const Vec3b* face_hsv = r.face_hsv->ptr<Vec3b>();
     Mat interior;
-    erode(r.mask, interior, Mat(), Point(-1, -1), 2); // colours at the silhouette are mixed
+    erode(inner, interior, Mat()); // eroded twice: colours at the silhouette are mixed
     if (countNonZero(interior) == 0)
         interior = r.mask;
     state = Mat::zeros(sz, CV_8UC1);
@@ -230,10 +254,7 @@ static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scen
         const ushort* sd = with_depth ? depth.ptr<ushort>(y) : 0;
         uchar* st = state.ptr<uchar>(y);
         const bool row_sampled = y % p.sample_step == 0;
-        for (int x = 0; x < sz.width; ++x)
-        {
-            if (!in[x])
-                continue;
+        forEachNonZero(in, sz.width, [&](int x) {
             bool occluded = false, dvalid = false;
             if (with_depth && sd[x] > 0)
             {
@@ -245,7 +266,7 @@ static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scen
                                 hueClass(hs + 3 * x, min_s, min_v), hue_tol);
             st[x] = occluded ? 3 : agree ? 1 : 2;
             if (!row_sampled || x % p.sample_step != 0)
-                continue;
+                return;
             ++n_all;
             n_occ += occluded;
             n_col += agree;
@@ -258,7 +279,7 @@ static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scen
                     n_dok += std::abs((double)sd[x] - (double)rd[x]) <= tol_mm;
                 }
             }
-        }
+        });
     }
     const int n_vis = n_all - n_occ;
     m.color_score = n_all > 0 ? n_col / std::max((double)n_vis, p.min_visible * n_all) : 0.0;
@@ -270,57 +291,70 @@ static double scoreInterior(const Rendered& r, const Mat& hsv_s, const Mat& scen
     return raw_colour;
 }
 
+// The nonzero pixels of a crop-sized CV_8UC1 image (the drawn contour: a thin line), row by row.
+static void nonZeroPixels(const Mat& img, std::vector<Point>& out)
+{
+    out.clear();
+    for (int y = 0; y < img.rows; ++y)
+        forEachNonZero(img.ptr<uchar>(y), img.cols, [&](int x) { out.push_back(Point(x, y)); });
+}
+
 // The whole drawn contour against the scene's edges of its orientation; a contour point without
 // an edge is excused when the pixels around it say it is covered (`state` of scoreInterior).
-static void scoreContour(const Rendered& r, const Mat& scene_color, const EdgeMaps* maps,
-                         bool with_depth, double raw_colour, const Mat& state,
-                         const VerificationParams& p, PoseMatch& m)
+// In three passes over the contour's points: their orientations, the edge test of each (the
+// frame's distance maps read point after point, so that their cache misses overlap), then the
+// neighbourhood of the points without an edge.
+static void scoreContour(const Rendered& r, const Mat& inner, const Mat& scene_color,
+                         const EdgeMaps* maps, bool with_depth, double raw_colour,
+                         const Mat& state, const VerificationParams& p, PoseMatch& m)
 {
     const Size sz = r.rect.size();
     SceneEdges edges(scene_color, r.rect, maps, p.edge_params);
     const int B = p.edge_params.orientations;
-    Mat inner, contour, blurred;
-    erode(r.mask, inner, Mat(), Point(-1, -1), 1);
-    contour = r.mask - inner;
+    Mat contour, blurred;
+    subtract(r.mask, inner, contour);
     GaussianBlur(r.mask, blurred, Size(5, 5), 0);
     const PointSobel sobel(blurred);
-    const int W = 3; // half window of the local evidence of a contour point
-    int n_contour = 0, n_matched = 0, n_covered = 0;
-    for (int y = 0; y < sz.height; ++y)
+    std::vector<Point> points;
+    nonZeroPixels(contour, points);
+    const int n_contour = (int)points.size();
+    std::vector<uchar> bins(points.size()), matched(points.size());
+    for (int i = 0; i < n_contour; ++i)
     {
-        const uchar* c = contour.ptr<uchar>(y);
-        for (int x = 0; x < sz.width; ++x)
+        int gx, gy;
+        sobel.at(points[i].x, points[i].y, 0, gx, gy); // the smoothed mask's gradient
+        bins[i] = (uchar)orientationBin((float)gx, (float)gy, B);
+    }
+    for (int i = 0; i < n_contour; ++i)
+        matched[i] = edges.edgeWithin(points[i].x, points[i].y, bins[i], p.edge_distance);
+    const int W = 3; // half window of the local evidence of a contour point
+    int n_matched = 0, n_covered = 0;
+    for (int i = 0; i < n_contour; ++i)
+    {
+        if (matched[i])
         {
-            if (!c[x])
-                continue;
-            ++n_contour;
-            int gx, gy;
-            sobel.at(x, y, 0, gx, gy); // the smoothed mask's gradient
-            const int b = orientationBin((float)gx, (float)gy, B);
-            if (edges.edgeWithin(x, y, b, p.edge_distance))
-            {
-                ++n_matched;
-                continue;
-            }
-            // no edge here: is the fragment covered by something nearer?
-            int occ = 0, dis = 0, agr = 0;
-            for (int v = std::max(0, y - W); v <= std::min(sz.height - 1, y + W); ++v)
-            {
-                const uchar* st = state.ptr<uchar>(v);
-                for (int u = std::max(0, x - W); u <= std::min(sz.width - 1, x + W); ++u)
-                {
-                    occ += st[u] == 3;
-                    agr += st[u] == 1;
-                    dis += st[u] == 2;
-                }
-            }
-            bool covered;
-            if (with_depth)
-                covered = occ > 0 && occ >= agr + dis;
-            else // the object is there (its colour mostly agrees) but not here
-                covered = raw_colour >= 0.5 && dis > agr;
-            n_covered += covered;
+            ++n_matched;
+            continue;
         }
+        // no edge here: is the fragment covered by something nearer?
+        const int x = points[i].x, y = points[i].y;
+        int occ = 0, dis = 0, agr = 0;
+        for (int v = std::max(0, y - W); v <= std::min(sz.height - 1, y + W); ++v)
+        {
+            const uchar* st = state.ptr<uchar>(v);
+            for (int u = std::max(0, x - W); u <= std::min(sz.width - 1, x + W); ++u)
+            {
+                occ += st[u] == 3;
+                agr += st[u] == 1;
+                dis += st[u] == 2;
+            }
+        }
+        bool covered;
+        if (with_depth)
+            covered = occ > 0 && occ >= agr + dis;
+        else // the object is there (its colour mostly agrees) but not here
+            covered = raw_colour >= 0.5 && dis > agr;
+        n_covered += covered;
     }
     m.edge_score = n_contour > 0
         ? n_matched / std::max((double)(n_contour - n_covered), p.min_visible * n_contour)
@@ -347,8 +381,10 @@ static void scoreRegion(const Rendered& r, const Mat& hsv_s, const Mat& state,
     const int min_s = cvRound(255 * p.min_saturation), min_v = cvRound(255 * p.min_value);
     const int gap = 2, reach = gap + p.region_width; // the ring: gap < distance <= reach
     Mat outer, inner;
-    dilate(r.mask, outer, getStructuringElement(MORPH_RECT, Size(2 * reach + 1, 2 * reach + 1)));
+    // (a rectangle's dilation of a rectangle's: the same as the mask's by the sum of both)
     dilate(r.mask, inner, getStructuringElement(MORPH_RECT, Size(2 * gap + 1, 2 * gap + 1)));
+    dilate(inner, outer, getStructuringElement(MORPH_RECT, Size(2 * (reach - gap) + 1,
+                                                                 2 * (reach - gap) + 1)));
     const int kBins = 28;
     int h_in[kBins] = { 0 }, h_out[kBins] = { 0 };
     int n_in = 0, n_out = 0;
@@ -388,10 +424,11 @@ static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat
                             const EdgeMaps* maps, const VerificationParams& p, PoseMatch& m)
 {
     const bool with_depth = !scene_depth.empty();
-    Mat state, hsv_s;
+    Mat state, hsv_s, inner;
     cvtColor(scene_color(r.rect), hsv_s, COLOR_BGR2HSV);
-    const double raw_colour = scoreInterior(r, hsv_s, scene_depth, p, state, m);
-    scoreContour(r, scene_color, maps, with_depth, raw_colour, state, p, m);
+    erode(r.mask, inner, Mat());
+    const double raw_colour = scoreInterior(r, inner, hsv_s, scene_depth, p, state, m);
+    scoreContour(r, inner, scene_color, maps, with_depth, raw_colour, state, p, m);
     scoreRegion(r, hsv_s, state, p, m);
     double wsum = p.w_similarity + p.w_color + p.w_edges + p.w_region;
     double v = p.w_similarity * m.similarity / 100.0 + p.w_color * m.color_score

@@ -177,6 +177,32 @@ inline std::vector<ViewPose> hemisphereViews(const Mesh& mesh, const std::vector
     return ViewSampler(sp).poses(Point3d(c.x, c.y, c.z));
 }
 
+/** A match whose template pose is (R, t) with intrinsics K, placed where that pose projects the
+mesh: its initial pose in a frame of the same K is (R, t) itself. */
+inline PoseMatch matchAtPose(const Mesh& mesh, const Matx33d& K, const Matx33d& R, const Vec3d& t,
+                             const String& class_id = "ape")
+{
+    std::vector<Point2f> px;
+    for (size_t i = 0; i < mesh.vertices.size(); ++i)
+    {
+        const Vec3d q = K * (R * Vec3d(mesh.vertices[i].x, mesh.vertices[i].y,
+                                       mesh.vertices[i].z) + t);
+        px.push_back(Point2f((float)(q[0] / q[2]), (float)(q[1] / q[2])));
+    }
+    PoseMatch m;
+    m.class_id = class_id;
+    m.pose.R = R;
+    m.pose.t = t;
+    m.pose.K = K;
+    m.pose.box = boundingRect(px);
+    m.pose.valid = true;
+    m.box = m.pose.box;
+    m.x = m.box.x;
+    m.y = m.box.y;
+    m.similarity = 90.f;
+    return m;
+}
+
 } // namespace pose_test
 } // namespace opencv_test
 
