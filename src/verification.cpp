@@ -118,7 +118,8 @@ namespace {
 // (face: the face seen at each pixel, whose colour face_hsv holds).
 struct Rendered
 {
-    Rect rect; // crop in the scene image
+    Rect rect;  // crop in the scene image (what is scored; the images below are of its size)
+    Rect drawn; // the drawing's crop, which holds rect (Canny runs on it when there are no maps)
     Mat face, depth, mask;
     const Mat* face_hsv;
     double diameter;
@@ -309,7 +310,8 @@ static void scoreContour(const Rendered& r, const Mat& inner, const Mat& scene_c
                          const Mat& state, const VerificationParams& p, PoseMatch& m)
 {
     const Size sz = r.rect.size();
-    SceneEdges edges(scene_color, r.rect, maps, p.edge_params);
+    SceneEdges edges(scene_color, r.drawn, maps, p.edge_params);
+    const Point in_drawn = r.rect.tl() - r.drawn.tl();
     const int B = p.edge_params.orientations;
     Mat contour, blurred;
     subtract(r.mask, inner, contour);
@@ -326,7 +328,8 @@ static void scoreContour(const Rendered& r, const Mat& inner, const Mat& scene_c
         bins[i] = (uchar)orientationBin((float)gx, (float)gy, B);
     }
     for (int i = 0; i < n_contour; ++i)
-        matched[i] = edges.edgeWithin(points[i].x, points[i].y, bins[i], p.edge_distance);
+        matched[i] = edges.edgeWithin(points[i].x + in_drawn.x, points[i].y + in_drawn.y,
+                                      bins[i], p.edge_distance);
     const int W = 3; // half window of the local evidence of a contour point
     int n_matched = 0, n_covered = 0;
     for (int i = 0; i < n_contour; ++i)
@@ -363,6 +366,9 @@ static void scoreContour(const Rendered& r, const Mat& inner, const Mat& scene_c
         m.occlusion = n_contour > 0 ? double(n_covered) / n_contour : 0.0;
 }
 
+// The ring of scoreRegion starts this far (chessboard distance, px) outside the silhouette.
+static const int kRingGap = 2;
+
 // Colour bin of an HSV pixel for the region histograms: 12 hues x 2 saturations, or one of 4
 // grey levels when achromatic (hueClass' rule).
 static inline int regionBin(const uchar* hsv, int min_s, int min_v)
@@ -379,7 +385,7 @@ static void scoreRegion(const Rendered& r, const Mat& hsv_s, const Mat& state,
                         const VerificationParams& p, PoseMatch& m)
 {
     const int min_s = cvRound(255 * p.min_saturation), min_v = cvRound(255 * p.min_value);
-    const int gap = 2, reach = gap + p.region_width; // the ring: gap < distance <= reach
+    const int gap = kRingGap, reach = gap + p.region_width; // the ring: gap < distance <= reach
     Mat outer, inner;
     // (a rectangle's dilation of a rectangle's: the same as the mask's by the sum of both)
     dilate(r.mask, inner, getStructuringElement(MORPH_RECT, Size(2 * gap + 1, 2 * gap + 1)));
@@ -418,6 +424,29 @@ static void scoreRegion(const Rendered& r, const Mat& hsv_s, const Mat& state,
     for (int b = 0; b < kBins; ++b)
         tv += std::abs(h_in[b] / (double)n_in - h_out[b] / (double)n_out);
     m.region_score = 0.5 * tv;
+}
+
+// The part of a drawing that its scores read: the mask's bounding box and `pad` pixels around it
+// (the ring of scoreRegion, the neighbourhoods of the contour and the blur), within the drawing's
+// crop, its corner on the sampling grid of `step` (the samples stay where they were). Every
+// filter and scan of the scores then gives there what it gives on the whole crop, where the mask
+// is 0 beyond the pad: the same scores on about half the pixels.
+static Rendered maskedPart(const Rendered& r, int pad, int step)
+{
+    Rect box = boundingRect(r.mask);
+    box.x -= pad;
+    box.y -= pad;
+    box.width += 2 * pad;
+    box.height += 2 * pad;
+    box &= Rect(Point(), r.mask.size());
+    const int x0 = box.x - box.x % step, y0 = box.y - box.y % step;
+    box = Rect(Point(x0, y0), box.br());
+    Rendered part = r;
+    part.rect = box + r.rect.tl();
+    part.face = r.face(box);
+    part.depth = r.depth(box);
+    part.mask = r.mask(box);
+    return part;
 }
 
 static void scoreHypothesis(const Rendered& r, const Mat& scene_color, const Mat& scene_depth,
@@ -517,7 +546,7 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
                 d = &own;
             }
             Rendered r;
-            r.rect = d->rect;
+            r.rect = r.drawn = d->rect;
             r.face = d->face;
             r.depth = d->depth;
             r.mask = d->mask;
@@ -526,7 +555,8 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
             if (r.rect.area() == 0 || countNonZero(r.mask) == 0)
                 noEvidence(p, !depth.empty(), m);
             else
-                scoreHypothesis(r, color, depth, maps, p, m);
+                scoreHypothesis(maskedPart(r, kRingGap + p.region_width, p.sample_step), color,
+                                depth, maps, p, m);
         }
     });
     // 3. verified hypotheses first, best first; the others after them in their order; the
