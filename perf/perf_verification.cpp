@@ -48,7 +48,8 @@ PERF_TEST_P(Forestmod_Verify, ten_hypotheses_VGA, testing::Values(500, 800))
         locations.push_back(std::vector<PoseMatch>(1, m));
     }
     PoseParams pose_params;
-    pose_params.max_per_class = VerificationParams().top_k; // as detect(): every verified detection has a pose
+    // as detect(): every verified detection has a pose
+    pose_params.max_per_class = VerificationParams().top_k;
     const VerificationParams& params = pose_params.verification;
     EdgeMaps maps;
     computeEdgeMaps(img, maps, pose_params.edge_params);
