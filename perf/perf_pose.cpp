@@ -104,11 +104,7 @@ PERF_TEST(Forestmod_Pose, refinePoseEdges_VGA)
     const Matx33d K = lmoIntrinsics();
     Matx33d R;
     Vec3d t;
-    ViewSampler::lookAt(mr.mesh.center(), Vec3d(0.5, 0.5, 0.7071), 750, 30, R, t);
-    Mat img = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png")), color, mask;
-    ASSERT_FALSE(img.empty());
-    mr.renderer->render(mr.handle, R, t, K, color, noArray(), mask);
-    color.copyTo(img, mask);
+    const Mat img = pastedOnRealFrame(mr, K, 750, R, t);
     EdgeMaps maps;
     computeEdgeMaps(img, maps);
     RNG rng(7);
@@ -134,11 +130,7 @@ PERF_TEST_P(Forestmod_ChoosePoses, ape_16_matches_VGA, testing::Values(2, 4, 16)
     const Matx33d K = lmoIntrinsics();
     Matx33d R;
     Vec3d t;
-    ViewSampler::lookAt(ape.center(), Vec3d(0.5, 0.5, 0.7071), 750, 30, R, t);
-    Mat img = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png")), color, mask;
-    ASSERT_FALSE(img.empty());
-    mr.renderer->render(mr.handle, R, t, K, color, noArray(), mask);
-    color.copyTo(img, mask);
+    const Mat img = pastedOnRealFrame(mr, K, 750, R, t);
     cv::forestmod::Detector det;
     det.setMesh("ape", ape);
     RNG rng(8);

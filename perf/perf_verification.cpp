@@ -22,11 +22,7 @@ PERF_TEST_P(Forestmod_Verify, ten_hypotheses_VGA, testing::Values(500, 800))
     const Matx33d K = lmoIntrinsics();
     Matx33d R;
     Vec3d t;
-    ViewSampler::lookAt(ape.center(), Vec3d(0.5, 0.5, 0.7071), GetParam(), 30, R, t);
-    Mat img = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png")), color, mask;
-    ASSERT_FALSE(img.empty());
-    mr.renderer->render(mr.handle, R, t, K, color, noArray(), mask);
-    color.copyTo(img, mask);
+    const Mat img = pastedOnRealFrame(mr, K, GetParam(), R, t);
     cv::forestmod::Detector det;
     det.setMesh("ape", ape);
     std::vector<std::vector<PoseMatch> > locations;

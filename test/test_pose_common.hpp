@@ -48,6 +48,20 @@ struct MeshRenderer
     int handle;
 };
 
+/** The mesh of `mr` rendered at `distance` mm, seen from the direction (0.5, 0.5, 0.7071) of its
+centre and turned 30 degrees in-plane (its pose in R, t), pasted on real LM-O frame 902 (the
+renderer's image size: 640 x 480). */
+inline Mat pastedOnRealFrame(MeshRenderer& mr, const Matx33d& K, double distance, Matx33d& R,
+                             Vec3d& t)
+{
+    ViewSampler::lookAt(mr.mesh.center(), Vec3d(0.5, 0.5, 0.7071), distance, 30, R, t);
+    Mat img = imread(cvtest::findDataFile("lmo_mini/test/000002/rgb/000902.png")), color, mask;
+    CV_Assert(!img.empty());
+    mr.renderer->render(mr.handle, R, t, K, color, noArray(), mask);
+    color.copyTo(img, mask);
+    return img;
+}
+
 /** The ape drawn both ways for 640 x 480 images: the renderer of its full mesh, and the CPU
 drawing of the coarse copy that the detector's poses draw (coarseMesh with cells of
 drawingCell()). */
