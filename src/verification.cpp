@@ -555,8 +555,12 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
             if (r.rect.area() == 0 || countNonZero(r.mask) == 0)
                 noEvidence(p, !depth.empty(), m);
             else
-                scoreHypothesis(maskedPart(r, kRingGap + p.region_width, p.sample_step), color,
-                                depth, maps, p, m);
+            {
+                // the ring's reach, and at least the 3 px of the contour's 7 x 7 neighbourhoods
+                // and of the blur (5 x 5) under its Sobel
+                const int pad = std::max(kRingGap + p.region_width, 3);
+                scoreHypothesis(maskedPart(r, pad, p.sample_step), color, depth, maps, p, m);
+            }
         }
     });
     // 3. verified hypotheses first, best first; the others after them in their order; the
