@@ -16,6 +16,7 @@
 #include "nms.hpp"
 #include "match_stats.hpp"
 #include "verification.hpp"
+#include "background.hpp"
 
 namespace cv {
 namespace forestmod {
@@ -311,10 +312,11 @@ static std::vector<uchar> allowedRows(const DetectorView& d, const std::vector<S
 
 // The pipeline of one frame: every match over the threshold, sorted best first, before
 // non-maximum suppression.
+// `scene_out` (optional) receives the frame's scene pyramid for the stages after matching.
 static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, float threshold,
                        std::vector<Match>& matches, const std::vector<String>& class_ids,
                        OutputArrayOfArrays quantized_images, const std::vector<Mat>& masks,
-                       DetectionStats* stats)
+                       DetectionStats* stats, detail::ScenePyramid* scene_out = 0)
 {
     checkMatchInputs(d, sources, threshold, masks);
     const DetectorParams& params = d.impl.params;
@@ -378,6 +380,8 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
         stats->t_tree_ms += t_tree;
         stats->t_valid_ms += t_valid;
     }
+    if (scene_out)
+        std::swap(*scene_out, scene);
 }
 
 void Detector::match(const std::vector<Mat>& sources, float threshold, std::vector<Match>& matches,
@@ -477,6 +481,26 @@ void Detector::verify(InputArray color, InputArray depth, const Matx33d& K,
                              &edge_maps, stats);
 }
 
+void Detector::backgroundSimilarity(const std::vector<Mat>& sources,
+                                    std::vector<PoseMatch>& matches, double quantile,
+                                    DetectionStats* stats) const
+{
+    detail::checkBackgroundQuantile(quantile);
+    const DetectorView d = { modalities, T_at_level, class_templates, *impl_ };
+    checkMatchInputs(d, sources, 50.f, std::vector<Mat>());
+    detail::StageClock clock;
+    detail::ScenePyramid scene;
+    detail::quantizeScene(d.modalities, d.impl.roles, d.T, sources, std::vector<Mat>(), scene,
+                          noArray());
+    std::vector<Match> plain(matches.begin(), matches.end());
+    std::vector<float> background;
+    detail::backgroundSimilarity(scene, class_templates, plain, quantile, background);
+    for (size_t i = 0; i < matches.size(); ++i)
+        matches[i].background = background[i];
+    if (stats)
+        stats->t_background_ms += clock.total();
+}
+
 // the verification reads the pose stage's edge maps when they were made with its edge parameters
 static bool sameEdges(const EdgeRefineParams& a, const EdgeRefineParams& b)
 {
@@ -546,14 +570,33 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
     }
     detail::StageClock clock;
     std::vector<Match> all;
-    matchFrame(d, sources, threshold, all, class_ids, noArray(), std::vector<Mat>(), stats);
+    detail::ScenePyramid scene;
+    matchFrame(d, sources, threshold, all, class_ids, noArray(), std::vector<Mat>(), stats,
+               &scene);
+    if (stats)
+        stats->t_total_ms += clock.lap();
+    // the hypotheses that stand out from the frame first (VerificationParams::background_weight)
+    std::vector<float> background;
+    const VerificationParams& vp = params.verification;
+    if (vp.enabled && vp.background_weight > 0)
+    {
+        detail::backgroundSimilarity(scene, class_templates, all, vp.background_quantile,
+                                     background);
+        detail::orderByDistinctiveness(all, background, vp.background_weight);
+        if (stats)
+            stats->t_background_ms += clock.lap();
+    }
     std::vector<int> leader;
     detail::nonMaximumSuppression(all, class_templates, iou, leader);
     if (stats)
-        stats->t_total_ms += clock.total();
+        stats->t_total_ms += clock.lap();
     std::vector<PoseMatch> hypotheses;
     for (size_t i = 0; i < all.size(); ++i)
+    {
         hypotheses.push_back(detail::toPoseMatch(all[i], class_templates, impl_->store));
+        if (!background.empty())
+            hypotheses.back().background = background[i];
+    }
     EdgeMaps edge_maps;
     impl_->poses.chooseBySuppression(impl_->store, hypotheses, leader, depth, K, params, color,
                                      matches, edge_maps);

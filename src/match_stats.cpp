@@ -10,7 +10,7 @@ namespace forestmod {
 
 void DetectionStats::reset()
 {
-    t_quantize_ms = t_tree_ms = t_valid_ms = t_total_ms = t_verify_ms = 0;
+    t_quantize_ms = t_tree_ms = t_valid_ms = t_total_ms = t_verify_ms = t_background_ms = 0;
     verified = 0;
     locations = rejected = rejected_flat = rejected_depth_range = validated = candidates = 0;
     rejected_at_depth.clear();

@@ -22,7 +22,8 @@ namespace forestmod {
 VerificationParams::VerificationParams()
     : enabled(true), top_k(10), min_saturation(0.25), min_value(0.15), hue_tolerance(20),
       edge_distance(3), depth_tolerance(0.05), min_visible(0.5), sample_step(2),
-      w_similarity(0.1), w_color(0.3), w_edges(0.3), w_depth(0.4), w_region(0.3), region_width(6)
+      w_similarity(0.1), w_color(0.3), w_edges(0.3), w_depth(0.4), w_region(0.3), region_width(6),
+      background_weight(1.5), background_quantile(0.99)
 {
 }
 
@@ -45,6 +46,8 @@ void VerificationParams::read(const FileNode& fn)
     detail::readField(fn, "w_depth", w_depth);
     detail::readField(fn, "w_region", w_region);
     detail::readField(fn, "region_width", region_width);
+    detail::readField(fn, "background_weight", background_weight);
+    detail::readField(fn, "background_quantile", background_quantile);
 }
 
 void VerificationParams::write(FileStorage& fs) const
@@ -58,7 +61,8 @@ void VerificationParams::write(FileStorage& fs) const
     fs << "depth_tolerance" << depth_tolerance << "min_visible" << min_visible << "sample_step"
        << sample_step << "w_similarity" << w_similarity << "w_color" << w_color << "w_edges"
        << w_edges << "w_depth" << w_depth << "w_region" << w_region << "region_width"
-       << region_width;
+       << region_width << "background_weight" << background_weight << "background_quantile"
+       << background_quantile;
 }
 
 namespace detail {
@@ -68,6 +72,12 @@ static void checkWeight(double w, const char* name)
     if (!(w >= 0 && w < 1e6))
         CV_Error_(Error::StsOutOfRange, ("VerificationParams: %s must be a finite weight >= 0, "
                                          "got %g", name, w));
+}
+
+void checkBackgroundQuantile(double q)
+{
+    if (!(q > 0 && q <= 1))
+        CV_Error_(Error::StsOutOfRange, ("background quantile must be in (0, 1], got %g", q));
 }
 
 void checkVerificationParams(const VerificationParams& p)
@@ -107,6 +117,8 @@ void checkVerificationParams(const VerificationParams& p)
     if (p.region_width < 1 || p.region_width > 64)
         CV_Error_(Error::StsOutOfRange, ("VerificationParams: region_width must be in [1, 64] px, "
                                          "got %d", p.region_width));
+    checkWeight(p.background_weight, "background_weight");
+    checkBackgroundQuantile(p.background_quantile);
     if (!(p.w_similarity + p.w_color + p.w_edges + p.w_region > 0))
         CV_Error(Error::StsOutOfRange, "VerificationParams: w_similarity + w_color + w_edges + "
                                        "w_region must be > 0");

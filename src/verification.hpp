@@ -17,6 +17,8 @@ namespace detail {
 
 /** Throws a cv::Exception naming the first bad field of p. */
 void checkVerificationParams(const VerificationParams& p);
+/** Throws StsOutOfRange unless q is in (0, 1] (a background quantile). */
+void checkBackgroundQuantile(double q);
 
 /** Detector::verify: scores the first p.top_k hypotheses with a pose of every class whose mesh
 `poses` holds, fills their verification fields and moves them to the front of `matches`, best

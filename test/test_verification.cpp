@@ -791,6 +791,8 @@ TEST(Forestmod_Verification, params_read_write)
     p.w_depth = 0.6;
     p.w_region = 0.25;
     p.region_width = 9;
+    p.background_weight = 0.75;
+    p.background_quantile = 0.95;
     PoseParams pp;
     pp.verification = p;
     pp.depth_hypotheses = 5;
@@ -820,6 +822,8 @@ TEST(Forestmod_Verification, params_read_write)
     EXPECT_EQ(q.w_depth, p.w_depth);
     EXPECT_EQ(q.w_region, p.w_region);
     EXPECT_EQ(q.region_width, p.region_width);
+    EXPECT_EQ(q.background_weight, p.background_weight);
+    EXPECT_EQ(q.background_quantile, p.background_quantile);
     // absent keys keep their values (files of older versions)
     FileStorage empty("{}", FileStorage::READ | FileStorage::MEMORY | FileStorage::FORMAT_JSON);
     VerificationParams d;
@@ -868,6 +872,12 @@ TEST(Forestmod_Verification, bad_input_raises)
     EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
     p = VerificationParams();
     p.sample_step = 0;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.background_weight = -0.5;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.background_quantile = 0;
     EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
     // detect() checks the verification's parameters too
     PoseParams pp;

@@ -85,6 +85,7 @@ struct EvalOptions
     int verify_k;                      //!< hypotheses per object (recall@verify_k)
     //! w_similarity, w_color, w_edges, w_depth; empty: VerificationParams' defaults
     std::vector<double> verify_weights;
+    double background_weight; //!< VerificationParams::background_weight (< 0: the default)
 
     /** --gt_similarity: each object also matched with a template made at its ground-truth pose
     (FrameRecord::gt_similarity, the "Similarity on the object" table) */
@@ -183,8 +184,11 @@ struct Result
     int n2d, ok2d, okproj, nadd, okadd;
     int ok2d_at10, okproj_at10; //!< any of the first 10 hypotheses (RunContext::verify.top_k)
     std::vector<double> verify; //!< verified rows: t_verify_ms of every frame
-    /** plain rows: ms per frame of the hypotheses' poses (estimatePoses of every location's
-    matches: without depth the first 8 refined by edge alignment, with depth ICP) */
+    //! verified rows: t_background_ms of every frame (Detector::backgroundSimilarity)
+    std::vector<double> background;
+    /** ms per frame of the hypotheses' poses (choosePoses of every location's matches: without
+    depth refined by edge alignment, with depth ICP); verified rows: those of the hypotheses
+    ordered by background (VerificationParams::background_weight), when they are made again */
     std::vector<double> pose;
     bool with_depth;
     std::vector<FrameRecord> per_frame;

@@ -102,6 +102,8 @@ static const char* const keys
       "templates (with their depth samples, used for the initial poses) are made }"
       "{verify_k        | 10       | hypotheses per object (locations after grouping the "
       "matches), verified and counted in recall@k (VerificationParams::top_k) }"
+      "{background_weight | -1     | VerificationParams::background_weight of the verified rows "
+      "(0: their hypotheses in the matcher's order; -1: the library's default) }"
       "{verify_weights  |          | w_similarity,w_color,w_edges,w_depth[,w_region] of the "
       "verification (default: VerificationParams') }"
       "{gt_similarity   |          | also match, for every object and frame, a template made at "
@@ -122,7 +124,8 @@ EvalOptions::EvalOptions()
       depth_range_tolerance(0.f),
       has_depth_range_tolerance(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
       depth_validation(true), hue_feature_saturation(-1),
-      hue_feature_area(-1.f), five_trees(true), verify_k(10), gt_similarity(false)
+      hue_feature_area(-1.f), five_trees(true), verify_k(10), background_weight(-1),
+      gt_similarity(false)
 {
     regimeSampler(regime, sampler);
 }
@@ -295,6 +298,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.force = parser.has("force");
     opt.verify_k = parser.get<int>("verify_k");
     opt.gt_similarity = parser.has("gt_similarity");
+    opt.background_weight = parser.get<double>("background_weight");
     const std::string weights_arg = parser.get<std::string>("verify_weights");
     // the sampler: the regime's, then the flags given
     fm::ViewSampler::Params& sp = opt.sampler;

@@ -156,25 +156,17 @@ static void bestOnAndOff(const std::vector<cv::linemod::Match>& matches,
     }
 }
 
-/** Scores the hypotheses of an object in a frame. matches: the detector's output (sorted, best
-first, before non-maximum suppression); posedet: a forestmod::Detector with the same templates
-(pose labels, meshes). The matches of the class are grouped by location (greedy, box IoU > 0.5
-with a group's first match) into up to ctx.verify.top_k hypotheses in the matcher's order; each
-takes its pose as Detector::detect() does. res gets the first hypothesis (recall@1) and any of
-them (recall@10); verified (optional) the first after Detector::verify() re-ranked them. */
-static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm::Detector& posedet,
-                       const EvalFrame& f, const ObjectInfo& obj, const RunContext& ctx,
-                       Result& res, Result* verified)
+/** The hypotheses of an object in a frame, as Detector::detect() makes them: the class's
+matches (in the order given) grouped by location (greedy, box IoU > 0.5 with a group's first
+match) into up to ctx.verify.top_k locations, each with its pose (RGB, refined: the best edge
+fit of its first rgb_hypotheses matches; RGB-D: the first of depth_hypotheses whose ICP pose
+passes the depth check). edge_maps: the frame's, made around the groups (RGB, refined). Returns
+the time taken (ms). */
+static double poseHypotheses(const std::vector<fm::PoseMatch>& matches,
+                             const fm::Detector& posedet, const EvalFrame& f,
+                             const RunContext& ctx, std::vector<fm::PoseMatch>& top,
+                             fm::EdgeMaps& edge_maps)
 {
-    const fm::GroundTruth* gt = 0;
-    for (size_t i = 0; i < f.gt.size(); ++i)
-        if (f.gt[i].obj_id == obj.obj_id)
-        {
-            gt = &f.gt[i];
-            break;
-        }
-    if (!gt)
-        return;
     const bool use_depth = ctx.use_depth;
     fm::PoseParams pp;
     pp.rgb_refine = ctx.rgb_refine;
@@ -183,9 +175,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     pp.rgb_hypotheses = ctx.rgb_hypotheses;
     pp.rgb_keep = ctx.rgb_keep;
     // the pose of a location is chosen among the matches of the class overlapping its first, as
-    // Detector::detect() chooses it (both detectors' matches come here before any NMS). RGB-D:
-    // the first of PoseParams::depth_hypotheses whose ICP pose passes the depth check (LINEMOD
-    // ACCV 2012's post-processing); RGB, refined: the best edge fit of rgb_hypotheses
+    // Detector::detect() chooses it (both detectors' matches come here before any NMS)
     const bool choose = use_depth || ctx.rgb_refine;
     const size_t keep = use_depth ? (size_t)pp.depth_hypotheses
                                   : choose ? (size_t)pp.rgb_hypotheses : 1;
@@ -193,13 +183,7 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     std::vector<std::vector<fm::PoseMatch> > groups;
     for (size_t i = 0; i < matches.size(); ++i)
     {
-        if (matches[i].class_id != obj.class_id)
-            continue;
-        fm::PoseMatch pm(matches[i]);
-        pm.pose = posedet.getTemplatePose(matches[i].class_id, matches[i].template_id);
-        const cv::linemod::Template& t0 = posedet.getTemplates(matches[i].class_id,
-                                                               matches[i].template_id)[0];
-        pm.box = cv::Rect(matches[i].x, matches[i].y, t0.width, t0.height);
+        const fm::PoseMatch& pm = matches[i];
         size_t g = 0;
         while (g < groups.size() && fm::boxIoU(pm.box, groups[g][0].box) <= 0.5)
             ++g;
@@ -211,11 +195,11 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
         else if (groups[g].size() < keep)
             groups[g].push_back(pm);
     }
-    std::vector<fm::PoseMatch> top; // one hypothesis per location, in the matcher's order
+    top.clear(); // one hypothesis per location, in the order given
     const int64 t_pose = cv::getTickCount();
     // one set of edge maps for the frame, around every group (as detect() makes them around its
     // refined matches), read by the refinement and the verification
-    fm::EdgeMaps edge_maps;
+    edge_maps = fm::EdgeMaps();
     if (choose && !use_depth && !groups.empty())
     {
         const int margin = cvCeil(3 * pp.edge_params.max_distance);
@@ -247,7 +231,45 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
         if (hyp[0].has_pose) // the template's pose
             top.push_back(hyp[0]);
     }
-    res.pose.push_back((cv::getTickCount() - t_pose) * 1000.0 / cv::getTickFrequency());
+    return (cv::getTickCount() - t_pose) * 1000.0 / cv::getTickFrequency();
+}
+
+/** Scores the hypotheses of an object in a frame. matches: the detector's output (sorted, best
+first, before non-maximum suppression); posedet: a forestmod::Detector with the same templates
+(pose labels, meshes). res gets the first of the hypotheses made in the matcher's order
+(recall@1) and any of them (recall@10); verified (optional) the first after Detector::verify()
+re-ranked the hypotheses that detect() makes: with VerificationParams::background_weight > 0
+those of the matches ordered by similarity - background_weight x background
+(Detector::backgroundSimilarity), as detect() orders them, else the same as res's. */
+static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm::Detector& posedet,
+                       const EvalFrame& f, const ObjectInfo& obj, const RunContext& ctx,
+                       Result& res, Result* verified)
+{
+    const fm::GroundTruth* gt = 0;
+    for (size_t i = 0; i < f.gt.size(); ++i)
+        if (f.gt[i].obj_id == obj.obj_id)
+        {
+            gt = &f.gt[i];
+            break;
+        }
+    if (!gt)
+        return;
+    const bool use_depth = ctx.use_depth;
+    std::vector<fm::PoseMatch> ordered; // the class's matches, with pose labels and boxes
+    for (size_t i = 0; i < matches.size(); ++i)
+    {
+        if (matches[i].class_id != obj.class_id)
+            continue;
+        fm::PoseMatch pm(matches[i]);
+        pm.pose = posedet.getTemplatePose(matches[i].class_id, matches[i].template_id);
+        const cv::linemod::Template& t0 = posedet.getTemplates(matches[i].class_id,
+                                                               matches[i].template_id)[0];
+        pm.box = cv::Rect(matches[i].x, matches[i].y, t0.width, t0.height);
+        ordered.push_back(pm);
+    }
+    std::vector<fm::PoseMatch> top;
+    fm::EdgeMaps edge_maps;
+    res.pose.push_back(poseHypotheses(ordered, posedet, f, ctx, top, edge_maps));
     const double nan = std::numeric_limits<double>::quiet_NaN();
     FrameRecord rec;
     rec.scene_id = f.scene_id;
@@ -268,11 +290,29 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     if (!verified)
         return;
     fm::DetectionStats stats;
+    if (ctx.verify.background_weight > 0 && !ordered.empty())
+    {
+        // detect()'s order: the matches that stand out from the frame first
+        posedet.backgroundSimilarity(sourcesOf(posedet.getModalities(), f.rgb,
+                                               use_depth ? f.depth : cv::Mat()),
+                                     ordered, ctx.verify.background_quantile, &stats);
+        std::vector<std::pair<double, size_t> > key(ordered.size());
+        for (size_t i = 0; i < ordered.size(); ++i)
+            key[i] = std::make_pair(-(ordered[i].similarity
+                                      - ctx.verify.background_weight * ordered[i].background),
+                                    i);
+        std::stable_sort(key.begin(), key.end());
+        std::vector<fm::PoseMatch> by_background(ordered.size());
+        for (size_t i = 0; i < key.size(); ++i)
+            by_background[i] = ordered[key[i].second];
+        verified->pose.push_back(poseHypotheses(by_background, posedet, f, ctx, top, edge_maps));
+    }
     if (!top.empty() && !edge_maps.distance.empty()) // the refinement's maps (RGB)
         posedet.verify(f.rgb, cv::Mat(), f.K, top, ctx.verify, &stats, edge_maps);
     else if (!top.empty())
         posedet.verify(f.rgb, use_depth ? f.depth : cv::Mat(), f.K, top, ctx.verify, &stats);
     verified->verify.push_back(stats.t_verify_ms);
+    verified->background.push_back(stats.t_background_ms);
     scoreHypotheses(top, *gt, on_object, f, obj, use_depth, *verified, rec, true);
 }
 
@@ -444,6 +484,8 @@ RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& fram
     ctx.repeat = opt.repeat;
     ctx.progress = &progress;
     ctx.verify.top_k = opt.verify_k;
+    if (opt.background_weight >= 0)
+        ctx.verify.background_weight = opt.background_weight;
     if (!opt.verify_weights.empty())
     {
         ctx.verify.w_similarity = opt.verify_weights[0];

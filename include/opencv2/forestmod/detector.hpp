@@ -145,6 +145,10 @@ struct CV_EXPORTS_W_SIMPLE DetectionStats
     /** verification stage (Detector::detect, Detector::verify): rendering the hypotheses,
     the scene's edge maps and colours, scoring and re-ranking; not part of t_total_ms */
     CV_PROP double t_verify_ms;
+    /** background similarity of the hypotheses (Detector::detect with
+    VerificationParams::background_weight > 0, Detector::backgroundSimilarity): each template
+    scored over the whole frame; not part of t_total_ms */
+    CV_PROP double t_background_ms;
     CV_PROP int64 verified;          //!< hypotheses scored by the verification stage
     CV_PROP int64 locations;         //!< locations visited on the coarsest level
     /** locations rejected before validation (all causes): by every search group on the forest
@@ -191,8 +195,9 @@ struct CV_EXPORTS_W_SIMPLE VerificationParams
     CV_WRAP VerificationParams();
     /** detect() verifies and re-ranks its detections. Default true. */
     CV_PROP_RW bool enabled;
-    /** Hypotheses verified per class, best first by the matcher (after non-maximum
-    suppression); the others keep their place after the verified ones. Default 10. */
+    /** Hypotheses verified per class, the first in detect()'s order (after non-maximum
+    suppression; the matcher's order, or by background with background_weight > 0); the others
+    keep their place after the verified ones. Default 10. */
     CV_PROP_RW int top_k;
     /** A pixel whose HSV saturation (0..1) is below this, or whose value is below min_value, has
     no reliable hue: it falls into the achromatic bin (white, grey, black). A model pixel agrees
@@ -230,6 +235,18 @@ struct CV_EXPORTS_W_SIMPLE VerificationParams
     /** Width (px) of the ring around the rendered silhouette whose colours region_score compares
     with those inside it (the ring starts 2 px out: the silhouette's pixels mix both). Default 6. */
     CV_PROP_RW int region_width;
+    /** detect(): before the pose stage, the matches are ordered by similarity -
+    background_weight x background (PoseMatch::background: how well the match's template fits
+    the frame anywhere), so that the top_k detections per class that get a pose and a
+    verification are those that stand out from the frame, not templates that fit its clutter
+    everywhere; non-maximum suppression keeps the first of overlapping matches in that order.
+    0: the matcher's order. Default 1.5, set on LM-O frames the evaluation does not report
+    (doc/verification.md, "Background similarity"). */
+    CV_PROP_RW double background_weight;
+    /** The quantile of a template's similarities over every position of the frame's coarsest
+    level taken as its background (PoseMatch::background), in (0, 1]. Default 0.99 (about the
+    twelfth best of the 1 200 positions of a VGA frame). */
+    CV_PROP_RW double background_quantile;
 
     void read(const FileNode& fn);
     void write(FileStorage& fs) const;
@@ -297,13 +314,14 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
 {
     CV_WRAP PoseMatch()
         : has_pose(false), refined(false), depth_agreement(-1), edge_fit(-1), verification(-1),
-          color_score(-1), edge_score(-1), depth_score(-1), occlusion(-1), region_score(-1)
+          color_score(-1), edge_score(-1), depth_score(-1), occlusion(-1), region_score(-1),
+          background(-1)
     {
     }
     CV_WRAP PoseMatch(const cv::linemod::Match& m)
         : cv::linemod::Match(m), has_pose(false), refined(false), depth_agreement(-1),
           edge_fit(-1), verification(-1), color_score(-1), edge_score(-1), depth_score(-1),
-          occlusion(-1), region_score(-1)
+          occlusion(-1), region_score(-1), background(-1)
     {
     }
     CV_PROP_RW Rect box;          //!< the template's box at the match (level 0 pixels)
@@ -337,6 +355,10 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
     around it (total variation distance of their colour histograms, 0..1): an object stands out
     from its surroundings, a pose on clutter straddles it. Needs no model colours. */
     CV_PROP_RW double region_score;
+    /** How well the match's template fits the frame anywhere: its similarity (percent, on the
+    coarsest level) at VerificationParams::background_quantile of every position where it fits
+    (Detector::backgroundSimilarity, Detector::detect); -1 when not computed. */
+    CV_PROP_RW double background;
     /** The object as estimatePoses() last drew it, at exactly (R, t) (opaque): verify() scores
     that drawing instead of drawing the hypothesis again, and releases it; a drawing of another
     pose, camera or mesh (setMesh() since) is not used. Empty when not drawn; release() it to
@@ -449,6 +471,24 @@ public:
     refined matches and returns them there, for verify() or further calls on the same frame. */
     void estimatePoses(InputArray depth, const Matx33d& K, std::vector<PoseMatch>& matches,
                        const PoseParams& params, InputArray color, EdgeMaps& edge_maps) const;
+
+    /** @brief How well each match's template fits the frame anywhere (PoseMatch::background).
+
+    The frame (`sources`, as for match()) is quantized, each distinct template of `matches` is
+    scored at every position of the coarsest level (as the exhaustive search scores it), and a
+    match's `background` is its template's similarity at `quantile` of those positions. A
+    template that fits the clutter everywhere has a high background; the object's own template
+    peaks where the object is. detect() orders its hypotheses by similarity -
+    VerificationParams::background_weight x background before the pose stage; this function
+    gives the same to any matches of this detector's templates, e.g. cv::linemod's with the same
+    templates (forestmod_eval's linemod_verified row).
+    @param sources  the frame, one image per modality (as match()).
+    @param matches  matches of this detector's classes and templates; `background` is set.
+    @param quantile in (0, 1] (VerificationParams::background_quantile).
+    @param stats    optional: t_background_ms is increased by the time taken.
+    */
+    void backgroundSimilarity(const std::vector<Mat>& sources, std::vector<PoseMatch>& matches,
+                              double quantile, DetectionStats* stats = 0) const;
 
     /** @brief The pose of each location, chosen among several matches at it as detect() chooses
     it.
