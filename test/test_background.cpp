@@ -69,6 +69,14 @@ struct ApeTemplates
         CV_Assert(det->numTemplates() > 0);
         return det;
     }
+    // the default pyramid (T = 5, 8) with the forest
+    Ptr<cv::forestmod::Detector> forestDetector() const
+    {
+        std::vector<int> T;
+        T.push_back(5);
+        T.push_back(8);
+        return detector(T, true);
+    }
 };
 
 // On a detector of one pyramid level and the plain LINEMOD search, match() at threshold 0 and
@@ -128,10 +136,7 @@ TEST(Forestmod_Background, is_the_quantile_of_the_templates_similarity_over_the_
 TEST(Forestmod_Background, rises_with_the_places_the_template_fits)
 {
     const ApeTemplates a;
-    std::vector<int> T;
-    T.push_back(5);
-    T.push_back(8);
-    Ptr<cv::forestmod::Detector> det = a.detector(T, true);
+    Ptr<cv::forestmod::Detector> det = a.forestDetector();
     std::vector<PoseMatch> m(1, PoseMatch(linemod::Match(0, 0, 0.f, "ape", 0)));
     double background[3];
     const int places[] = { 1, 4, 8 };
@@ -152,10 +157,7 @@ TEST(Forestmod_Background, rises_with_the_places_the_template_fits)
 TEST(Forestmod_Background, detect_fills_background_when_it_orders_by_it)
 {
     const ApeTemplates a;
-    std::vector<int> T;
-    T.push_back(5);
-    T.push_back(8);
-    Ptr<cv::forestmod::Detector> det = a.detector(T, true);
+    Ptr<cv::forestmod::Detector> det = a.forestDetector();
     det->setMesh("ape", a.ape);
     const std::vector<Mat> src(1, apesOnPlainFrame(a.ape, a.views[0], 2));
     for (int on = 0; on < 2; ++on)
@@ -184,10 +186,7 @@ TEST(Forestmod_Background, detect_fills_background_when_it_orders_by_it)
 TEST(Forestmod_Background, bad_input_raises)
 {
     const ApeTemplates a;
-    std::vector<int> T;
-    T.push_back(5);
-    T.push_back(8);
-    Ptr<cv::forestmod::Detector> det = a.detector(T, true);
+    Ptr<cv::forestmod::Detector> det = a.forestDetector();
     const std::vector<Mat> src(1, apesOnPlainFrame(a.ape, a.views[0], 1));
     std::vector<PoseMatch> m(1, PoseMatch(linemod::Match(0, 0, 0.f, "ape", 0)));
     EXPECT_THROW(det->backgroundSimilarity(src, m, 0.0), cv::Exception);
