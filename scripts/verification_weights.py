@@ -6,8 +6,8 @@
 
 forestmod_eval writes, for its *_verified rows, the features of every hypothesis of every frame
 ("hypotheses": [similarity, color, edges, depth, occlusion, box IoU, projection error px,
-region]). This script re-ranks them under every weight tuple (w_similarity, w_color, w_edges,
-w_region) on a grid of the simplex (w_depth on a grid too when the features have depth) and
+region, background]). This script re-ranks them under every weight tuple (w_similarity, w_color,
+w_edges, w_region) on a grid of the simplex (w_depth on a grid too when the features have depth) and
 prints the tuples with the most correct first hypotheses (box IoU >= 0.5 plus projection error
 < 5 px, summed). Run it on rendered scenes (forestmod_eval --synthetic=N) or on frames that a
 reported evaluation does not use (--first_frame), never on the frames it reports.

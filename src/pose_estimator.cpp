@@ -293,6 +293,7 @@ void PoseEstimator::chooseWithDepth(const TemplateStore& store,
         m.x = locations[g][0].x;
         m.y = locations[g][0].y;
         m.similarity = locations[g][0].similarity;
+        m.background = locations[g][0].background;
         m.box = locations[g][0].box;
         detections.push_back(m);
     }
@@ -498,12 +499,14 @@ void PoseEstimator::chooseAmong(const TemplateStore& store,
         for (size_t h = first[g] + 1; h < first[g + 1]; ++h)
             if (flat[h].edge_fit > flat[best].edge_fit)
                 best = h;
-        // the detection keeps its position, box and score (the ranking stays the matcher's);
+        // the detection keeps its position, box, score and background (the ranking stays the
+        // matcher's, or the background's order of detect());
         // template, pose label and pose come from the chosen hypothesis
         PoseMatch m = flat[best];
         m.x = flat[first[g]].x;
         m.y = flat[first[g]].y;
         m.similarity = flat[first[g]].similarity;
+        m.background = flat[first[g]].background;
         m.box = flat[first[g]].box;
         detections.push_back(m);
     }

@@ -347,7 +347,7 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
                 if ((int)pf[f]["template_id"] >= 0)
                 {
                     ASSERT_TRUE(pf[f]["hypotheses"].isSeq()) << what << " " << vrow;
-                    EXPECT_EQ(8, (int)pf[f]["hypotheses"][0].size()) << what << " " << vrow;
+                    EXPECT_EQ(9, (int)pf[f]["hypotheses"][0].size()) << what << " " << vrow;
                 }
         }
         // template coverage: each ground truth seen along its line of sight against the nearest

@@ -161,7 +161,7 @@ struct FrameRecord
     /** verified rows: every hypothesis in the verification's order, (similarity, color_score,
     edge_score, depth_score, occlusion, box IoU, projection error px, region_score): the features
     the verification weights are set on */
-    std::vector<cv::Vec<double, 8> > hyps;
+    std::vector<cv::Vec<double, 9> > hyps;
     std::vector<cv::linemod::Match> top; //!< the class's best matches (up to 5), as matched
     /** The best similarity of the class's matches whose template box lies on the object (box IoU
     >= 0.5 with the ground truth's), NaN without one */

@@ -138,12 +138,12 @@ void writeResult(cv::FileStorage& fs, const std::string& key, const Result& r, b
             if (!f.hyps.empty())
             {
                 // verified rows: [similarity, color, edges, depth, occlusion, iou, proj_px,
-                // region] of every hypothesis, in the verification's order
+                // region, background] of every hypothesis, in the verification's order
                 fs << "hypotheses" << "[";
                 for (size_t k = 0; k < f.hyps.size(); ++k)
                 {
                     fs << "[:";
-                    for (int j = 0; j < 8; ++j)
+                    for (int j = 0; j < 9; ++j)
                     {
                         const double v = f.hyps[k][j];
                         if (cvIsNaN(v) || cvIsInf(v))

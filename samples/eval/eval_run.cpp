@@ -64,9 +64,9 @@ static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::Gro
                                                         gt.R * St + gt.t));
         }
         if (record)
-            rec.hyps.push_back(cv::Vec<double, 8>(h.similarity, h.color_score, h.edge_score,
+            rec.hyps.push_back(cv::Vec<double, 9>(h.similarity, h.color_score, h.edge_score,
                                                   h.depth_score, h.occlusion, iou, proj,
-                                                  h.region_score));
+                                                  h.region_score, h.background));
         hit2d = hit2d || iou >= 0.5;
         hitproj = hitproj || proj < 5.0;
         if (k > 0)
