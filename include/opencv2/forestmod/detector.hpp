@@ -357,7 +357,8 @@ struct CV_EXPORTS_W_SIMPLE PoseMatch : public cv::linemod::Match
     CV_PROP_RW double region_score;
     /** How well the match's template fits the frame anywhere: its similarity (percent, on the
     coarsest level) at VerificationParams::background_quantile of every position where it fits
-    (Detector::backgroundSimilarity, Detector::detect); -1 when not computed. */
+    (Detector::backgroundSimilarity, Detector::detect: a detection's is its location's first
+    match's, as its similarity); -1 when not computed. */
     CV_PROP_RW double background;
     /** The object as estimatePoses() last drew it, at exactly (R, t) (opaque): verify() scores
     that drawing instead of drawing the hypothesis again, and releases it; a drawing of another
