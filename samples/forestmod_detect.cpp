@@ -344,8 +344,8 @@ int main(int argc, char** argv)
                (int)matches.size(), stats.t_total_ms, stats.t_quantize_ms, stats.t_tree_ms,
                stats.t_valid_ms, 100 * stats.rejectedFraction(), (long long)stats.locations);
         if (verify)
-            printf("verification: %lld hypotheses in %.1f ms\n", (long long)stats.verified,
-                   stats.t_verify_ms);
+            printf("background of the matches: %.1f ms; verification: %lld hypotheses in %.1f "
+                   "ms\n", stats.t_background_ms, (long long)stats.verified, stats.t_verify_ms);
         if (with_linemod)
             compareWithLinemod(detector, sources, threshold, repeat, matches);
 
@@ -368,6 +368,8 @@ int main(int argc, char** argv)
                 continue;
             printf("%s score %.1f box (%d,%d %dx%d) template %d", m.class_id.c_str(), m.similarity,
                    m.box.x, m.box.y, m.box.width, m.box.height, m.template_id);
+            if (m.background >= 0) // its template's similarity over the rest of the frame
+                printf(" background %.1f", m.background);
             if (m.has_pose)
             {
                 cv::Vec3d rvec;
