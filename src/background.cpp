@@ -97,20 +97,42 @@ void backgroundSimilarity(const ScenePyramid& scene, const ClassPyramids& pyrami
         background[i] = per[slot[i]];
 }
 
+// The matches sorted (stably) by similarity - weight x background[i], best first.
+template <typename M, typename Background>
+static void sortByDistinctiveness(std::vector<M>& matches, Background background, double weight)
+{
+    std::vector<std::pair<float, int> > key(matches.size());
+    for (size_t i = 0; i < matches.size(); ++i)
+        key[i] = std::make_pair(-(float)(matches[i].similarity - weight * background(i)), (int)i);
+    std::stable_sort(key.begin(), key.end());
+    std::vector<M> sorted;
+    sorted.reserve(matches.size());
+    for (size_t i = 0; i < key.size(); ++i)
+        sorted.push_back(matches[key[i].second]);
+    matches.swap(sorted);
+}
+
 void orderByDistinctiveness(std::vector<cv::linemod::Match>& matches,
                             const std::vector<float>& background, double weight)
 {
     CV_Assert(background.size() == matches.size());
-    std::vector<std::pair<float, int> > key(matches.size());
-    for (size_t i = 0; i < matches.size(); ++i)
-        key[i] = std::make_pair(-(float)(matches[i].similarity - weight * background[i]), (int)i);
-    std::stable_sort(key.begin(), key.end());
-    std::vector<cv::linemod::Match> sorted(matches.size());
-    for (size_t i = 0; i < key.size(); ++i)
-        sorted[i] = matches[key[i].second];
-    matches.swap(sorted);
+    sortByDistinctiveness(matches, [&](size_t i) { return (double)background[i]; }, weight);
 }
 
 } // namespace detail
+
+void orderByBackground(std::vector<PoseMatch>& matches, double weight)
+{
+    if (!(weight >= 0 && weight < 1e6))
+        CV_Error_(Error::StsOutOfRange, ("orderByBackground: weight must be finite and >= 0, got "
+                                         "%g", weight));
+    for (size_t i = 0; i < matches.size(); ++i)
+        if (matches[i].background < 0)
+            CV_Error_(Error::StsBadArg, ("orderByBackground: match %d has no background "
+                                         "(Detector::backgroundSimilarity)", (int)i));
+    detail::sortByDistinctiveness(matches, [&](size_t i) { return matches[i].background; },
+                                  weight);
+}
+
 } // namespace forestmod
 } // namespace cv

@@ -558,16 +558,6 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
         && (icp ? params.depth_hypotheses > 1
                 : depth.empty() && !color.empty() && params.rgb_refine
                       && params.rgb_hypotheses > 1);
-    if (!choose)
-    {
-        match(sources, threshold, matches, class_ids, std::vector<Mat>(), stats);
-        EdgeMaps edge_maps;
-        estimatePoses(depth, K, matches, params, color, edge_maps);
-        if (params.verification.enabled && !color.empty())
-            verifyDetections(*this, color, depth, K, matches, params, edge_maps, stats);
-        releaseDrawings(matches);
-        return;
-    }
     detail::StageClock clock;
     std::vector<Match> all;
     detail::ScenePyramid scene;
@@ -586,8 +576,10 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
         if (stats)
             stats->t_background_ms += clock.lap();
     }
-    std::vector<int> leader;
-    detail::nonMaximumSuppression(all, class_templates, iou, leader);
+    // 5. non-maximum suppression, as match() (off: every match leads)
+    std::vector<int> leader(all.size(), -1);
+    if (iou > 0.f && iou < 1.f)
+        detail::nonMaximumSuppression(all, class_templates, iou, leader);
     if (stats)
         stats->t_total_ms += clock.lap();
     std::vector<PoseMatch> hypotheses;
@@ -596,6 +588,19 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
         hypotheses.push_back(detail::toPoseMatch(all[i], class_templates, impl_->store));
         if (!background.empty())
             hypotheses.back().background = background[i];
+    }
+    if (!choose) // each detection with its own match's pose
+    {
+        matches.clear();
+        for (size_t i = 0; i < hypotheses.size(); ++i)
+            if (leader[i] < 0)
+                matches.push_back(hypotheses[i]);
+        EdgeMaps edge_maps;
+        estimatePoses(depth, K, matches, params, color, edge_maps);
+        if (params.verification.enabled && !color.empty())
+            verifyDetections(*this, color, depth, K, matches, params, edge_maps, stats);
+        releaseDrawings(matches);
+        return;
     }
     EdgeMaps edge_maps;
     impl_->poses.chooseBySuppression(impl_->store, hypotheses, leader, depth, K, params, color,

@@ -183,6 +183,33 @@ TEST(Forestmod_Background, detect_fills_background_when_it_orders_by_it)
     }
 }
 
+// orderByBackground(): stable, by similarity - weight x background.
+TEST(Forestmod_Background, order_is_similarity_minus_weighted_background)
+{
+    std::vector<PoseMatch> m;
+    const float sim[] = { 95.f, 90.f, 88.f, 90.f };
+    const double bg[] = { 60.0, 40.0, 20.0, 40.0 };
+    for (int i = 0; i < 4; ++i)
+    {
+        m.push_back(PoseMatch(linemod::Match(0, 0, sim[i], "ape", i)));
+        m.back().background = bg[i];
+    }
+    std::vector<PoseMatch> w0 = m, w1 = m;
+    orderByBackground(w0, 0.0); // the similarity's order, ties kept in place
+    EXPECT_EQ(0, w0[0].template_id);
+    EXPECT_EQ(1, w0[1].template_id);
+    EXPECT_EQ(3, w0[2].template_id);
+    EXPECT_EQ(2, w0[3].template_id);
+    orderByBackground(w1, 1.5); // keys 5, 30, 58, 30
+    EXPECT_EQ(2, w1[0].template_id);
+    EXPECT_EQ(1, w1[1].template_id);
+    EXPECT_EQ(3, w1[2].template_id);
+    EXPECT_EQ(0, w1[3].template_id);
+    EXPECT_THROW(orderByBackground(w1, -1.0), cv::Exception);
+    w1[2].background = -1; // not computed
+    EXPECT_THROW(orderByBackground(w1, 1.5), cv::Exception);
+}
+
 TEST(Forestmod_Background, bad_input_raises)
 {
     const ApeTemplates a;

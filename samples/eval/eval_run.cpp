@@ -296,15 +296,8 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
         posedet.backgroundSimilarity(sourcesOf(posedet.getModalities(), f.rgb,
                                                use_depth ? f.depth : cv::Mat()),
                                      ordered, ctx.verify.background_quantile, &stats);
-        std::vector<std::pair<double, size_t> > key(ordered.size());
-        for (size_t i = 0; i < ordered.size(); ++i)
-            key[i] = std::make_pair(-(ordered[i].similarity
-                                      - ctx.verify.background_weight * ordered[i].background),
-                                    i);
-        std::stable_sort(key.begin(), key.end());
-        std::vector<fm::PoseMatch> by_background(ordered.size());
-        for (size_t i = 0; i < key.size(); ++i)
-            by_background[i] = ordered[key[i].second];
+        std::vector<fm::PoseMatch> by_background = ordered;
+        fm::orderByBackground(by_background, ctx.verify.background_weight);
         verified->pose.push_back(poseHypotheses(by_background, posedet, f, ctx, top, edge_maps));
     }
     if (!top.empty() && !edge_maps.distance.empty()) // the refinement's maps (RGB)

@@ -622,6 +622,13 @@ private:
     Ptr<detail::DetectorImpl> impl_;
 };
 
+/** @brief Sorts matches (stably) by similarity - weight x PoseMatch::background, best first: the
+order Detector::detect() gives its matches before NMS and the pose stage
+(VerificationParams::background_weight). Every match needs its background
+(Detector::backgroundSimilarity); raises StsBadArg otherwise, StsOutOfRange for a negative or
+non-finite weight. */
+CV_EXPORTS void orderByBackground(std::vector<PoseMatch>& matches, double weight);
+
 /** @brief Color gradient + hue, T = {5, 8} (LINEMOD's getDefaultLINE plus the paper's hue).
 Sources: {BGR image, BGR image}. */
 CV_EXPORTS_W Ptr<Detector> getDefaultForestLINE();
