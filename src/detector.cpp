@@ -18,6 +18,9 @@
 #include "verification.hpp"
 #include "background.hpp"
 
+#include <set>
+#include <tuple>
+
 namespace cv {
 namespace forestmod {
 
@@ -529,6 +532,72 @@ static void verifyDetections(const Detector& det, const Mat& color, const Mat& d
         det.verify(color, depth, K, matches, vp, stats);
 }
 
+// VerificationParams::second_round_below: the classes whose best verified detection scores below
+// it get their locations of `next` (each class's next top_k after the verified ones) posed and
+// verified; matches (verified, best first, then the others) takes them in place of their
+// first-round detections, all verified ones ranked together.
+static void secondRound(const Detector& det, detail::PoseEstimator& poses,
+                        const detail::TemplateStore& store,
+                        const std::vector<std::vector<PoseMatch> >& next, const Mat& color,
+                        const Matx33d& K, const PoseParams& params,
+                        std::vector<PoseMatch>& matches, DetectionStats* stats)
+{
+    const VerificationParams& vp = params.verification;
+    std::map<String, double> best; // per class: the best verification of the first round
+    for (size_t i = 0; i < matches.size(); ++i)
+        if (matches[i].verification >= 0)
+        {
+            std::map<String, double>::iterator b = best.find(matches[i].class_id);
+            if (b == best.end())
+                best[matches[i].class_id] = matches[i].verification;
+            else
+                b->second = std::max(b->second, matches[i].verification);
+        }
+    std::vector<std::vector<PoseMatch> > more;
+    for (size_t k = 0; k < next.size(); ++k)
+    {
+        const std::map<String, double>::const_iterator b = best.find(next[k][0].class_id);
+        if (b != best.end() && b->second < vp.second_round_below)
+            more.push_back(next[k]);
+    }
+    if (more.empty())
+        return;
+    // the detections these locations had in the first round (template-posed, or posed but not
+    // verified when max_per_class > top_k), by their first match's position and box (unique
+    // among a class's detections, whose boxes overlap by at most nms_iou)
+    typedef std::tuple<String, int, int, int, int> Key;
+    const auto key = [](const PoseMatch& m) {
+        return Key(m.class_id, m.x, m.y, m.box.width, m.box.height);
+    };
+    std::set<Key> replaced;
+    for (size_t g = 0; g < more.size(); ++g)
+        replaced.insert(key(more[g][0]));
+    PoseParams p2 = params;
+    p2.max_per_class = vp.top_k;
+    std::vector<PoseMatch> second;
+    EdgeMaps maps2; // around these locations
+    poses.chooseAmong(store, more, Mat(), K, p2, color, second, maps2);
+    verifyDetections(det, color, Mat(), K, second, p2, maps2, stats);
+    std::vector<PoseMatch> verified, rest;
+    for (size_t i = 0; i < matches.size(); ++i)
+    {
+        PoseMatch& m = matches[i];
+        if (m.verification >= 0)
+            verified.push_back(m);
+        else if (!replaced.count(key(m)))
+            rest.push_back(m);
+    }
+    const size_t n_first = verified.size();
+    for (size_t i = 0; i < second.size(); ++i)
+        (second[i].verification >= 0 ? verified : rest).push_back(second[i]);
+    std::inplace_merge(verified.begin(), verified.begin() + n_first, verified.end(),
+                       [](const PoseMatch& a, const PoseMatch& b) {
+                           return a.verification > b.verification;
+                       });
+    verified.insert(verified.end(), rest.begin(), rest.end());
+    matches.swap(verified);
+}
+
 void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
                       std::vector<PoseMatch>& matches, const std::vector<String>& class_ids,
                       const PoseParams& _params, DetectionStats* stats) const
@@ -602,11 +671,33 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
         releaseDrawings(matches);
         return;
     }
+    const size_t per_location = (size_t)(icp ? params.depth_hypotheses : params.rgb_hypotheses);
+    std::vector<std::vector<PoseMatch> > locations
+        = detail::suppressedLocations(hypotheses, leader, per_location);
+    // the locations of a possible second round (VerificationParams::second_round_below): each
+    // class's next top_k
+    const bool verify = params.verification.enabled && !color.empty();
+    std::vector<std::vector<PoseMatch> > next;
+    if (verify && depth.empty() && vp.second_round_below > 0)
+    {
+        std::map<String, int> rank;
+        for (size_t g = 0; g < locations.size(); ++g)
+        {
+            const int r = rank[locations[g][0].class_id]++;
+            if (r >= vp.top_k && r < 2 * vp.top_k)
+                next.push_back(locations[g]);
+        }
+    }
     EdgeMaps edge_maps;
-    impl_->poses.chooseBySuppression(impl_->store, hypotheses, leader, depth, K, params, color,
-                                     matches, edge_maps);
-    if (params.verification.enabled && !color.empty())
+    impl_->poses.chooseAmong(impl_->store, std::move(locations), depth, K, params, color, matches,
+                             edge_maps);
+    if (verify)
+    {
         verifyDetections(*this, color, depth, K, matches, params, edge_maps, stats);
+        if (!next.empty())
+            secondRound(*this, impl_->poses, impl_->store, next, color, K, params, matches,
+                        stats);
+    }
     releaseDrawings(matches);
 }
 

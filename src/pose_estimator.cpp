@@ -414,16 +414,11 @@ void PoseEstimator::estimate(const TemplateStore& store, const Mat& depth, const
     matches.swap(kept);
 }
 
-void PoseEstimator::chooseBySuppression(const TemplateStore& store,
-                                        const std::vector<PoseMatch>& all,
-                                        const std::vector<int>& leader, const Mat& depth,
-                                        const Matx33d& K, const PoseParams& params,
-                                        const Mat& color, std::vector<PoseMatch>& detections,
-                                        EdgeMaps& edge_maps)
+std::vector<std::vector<PoseMatch> > suppressedLocations(const std::vector<PoseMatch>& all,
+                                                         const std::vector<int>& leader,
+                                                         size_t per_location)
 {
-    const size_t per_location = (size_t)(!depth.empty() && params.icp ? params.depth_hypotheses
-                                                                       : params.rgb_hypotheses);
-    // each detection's group: itself, then the matches of its class it suppressed
+    CV_Assert(leader.size() == all.size());
     std::vector<int> group_of(all.size(), -1);
     std::vector<std::vector<PoseMatch> > groups;
     for (size_t i = 0; i < all.size(); ++i)
@@ -438,7 +433,7 @@ void PoseEstimator::chooseBySuppression(const TemplateStore& store,
         if (all[i].class_id == g[0].class_id && g.size() < per_location)
             g.push_back(all[i]);
     }
-    chooseAmong(store, std::move(groups), depth, K, params, color, detections, edge_maps);
+    return groups;
 }
 
 void PoseEstimator::chooseAmong(const TemplateStore& store,

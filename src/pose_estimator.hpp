@@ -39,6 +39,13 @@ struct DrawnMesh
     Mat face_hsv; //!< CV_8UC3, one row per face
 };
 
+/** Detector::detect's locations: `all` are the matches before non-maximum suppression (best
+first) and `leader` its result (nonMaximumSuppression); each kept detection, in their order,
+with up to `per_location` matches of its class that it suppressed (itself first). */
+std::vector<std::vector<PoseMatch> > suppressedLocations(const std::vector<PoseMatch>& all,
+                                                         const std::vector<int>& leader,
+                                                         size_t per_location);
+
 class PoseEstimator
 {
 public:
@@ -60,19 +67,11 @@ public:
                   std::vector<PoseMatch>& matches, const PoseParams& params,
                   const Mat& color, EdgeMaps& edge_maps);
 
-    /** Detector::detect: `all` are the matches before non-maximum suppression (best first) and
-    `leader` its result (nonMaximumSuppression). Each kept detection of the best max_per_class
-    per class takes its pose from up to depth_hypotheses (with depth) or rgb_hypotheses (without)
-    matches of its class that it suppressed (itself first), as chooseAmong() chooses; the others
-    their template's pose. edge_maps as for estimate(). */
-    void chooseBySuppression(const TemplateStore& store, const std::vector<PoseMatch>& all,
-                             const std::vector<int>& leader, const Mat& depth, const Matx33d& K,
-                             const PoseParams& params, const Mat& color,
-                             std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);
-
-    /** Detector::choosePoses: each location's pose chosen among its matches (`locations[g]`, one
-    class, best first). With depth (and params.icp): the first whose ICP pose passes the depth
-    check (chooseWithDepth); without: the best edge fit. */
+    /** Detector::choosePoses, Detector::detect: each location's pose chosen among its matches
+    (`locations[g]`, one class, best first) for the first max_per_class locations per class; the
+    others keep their first match's template pose. With depth (and params.icp): the first whose
+    ICP pose passes the depth check (chooseWithDepth); without: the best edge fit. edge_maps as
+    for estimate(). detections[g] is location g's. */
     void chooseAmong(const TemplateStore& store, std::vector<std::vector<PoseMatch> > locations,
                      const Mat& depth, const Matx33d& K, const PoseParams& params,
                      const Mat& color, std::vector<PoseMatch>& detections, EdgeMaps& edge_maps);

@@ -20,7 +20,8 @@ namespace cv {
 namespace forestmod {
 
 VerificationParams::VerificationParams()
-    : enabled(true), top_k(10), min_saturation(0.25), min_value(0.15), hue_tolerance(20),
+    : enabled(true), top_k(10), second_round_below(0.75), min_saturation(0.25), min_value(0.15),
+      hue_tolerance(20),
       edge_distance(3), depth_tolerance(0.05), min_visible(0.5), sample_step(2),
       w_similarity(0.1), w_color(0.3), w_edges(0.3), w_depth(0.4), w_region(0.3), region_width(6),
       background_weight(1.5), background_quantile(0.99)
@@ -31,6 +32,7 @@ void VerificationParams::read(const FileNode& fn)
 {
     detail::readField(fn, "enabled", enabled);
     detail::readField(fn, "top_k", top_k);
+    detail::readField(fn, "second_round_below", second_round_below);
     detail::readField(fn, "min_saturation", min_saturation);
     detail::readField(fn, "min_value", min_value);
     detail::readField(fn, "hue_tolerance", hue_tolerance);
@@ -52,7 +54,8 @@ void VerificationParams::read(const FileNode& fn)
 
 void VerificationParams::write(FileStorage& fs) const
 {
-    fs << "enabled" << (int)enabled << "top_k" << top_k << "min_saturation" << min_saturation
+    fs << "enabled" << (int)enabled << "top_k" << top_k << "second_round_below"
+       << second_round_below << "min_saturation" << min_saturation
        << "min_value" << min_value << "hue_tolerance" << hue_tolerance << "edge_distance"
        << edge_distance;
     fs << "edge_params" << "{";
@@ -85,6 +88,9 @@ void checkVerificationParams(const VerificationParams& p)
     if (p.top_k < 1)
         CV_Error_(Error::StsOutOfRange, ("VerificationParams: top_k must be >= 1, got %d",
                                          p.top_k));
+    if (!(p.second_round_below >= 0 && p.second_round_below < 1e6))
+        CV_Error_(Error::StsOutOfRange, ("VerificationParams: second_round_below must be finite "
+                                         "and >= 0, got %g", p.second_round_below));
     if (!(p.min_saturation >= 0 && p.min_saturation <= 1) || !(p.min_value >= 0
                                                                 && p.min_value <= 1))
         CV_Error(Error::StsOutOfRange, "VerificationParams: min_saturation and min_value must be "

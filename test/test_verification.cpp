@@ -164,6 +164,64 @@ TEST(Forestmod_Verification, decoy_with_the_better_linemod_score_loses)
               << stats.t_verify_ms << " ms" << std::endl;
 }
 
+// VerificationParams::second_round_below: with one hypothesis verified per class, the decoy
+// (first in detect()'s order) is all the first round sees; it is not convincing (its colour
+// disagrees), so the second round verifies the next detection, the object, which then comes
+// first. One round leaves the decoy first; a convincing first round makes no second.
+TEST(Forestmod_Verification, second_round_finds_the_object_behind_an_unconvincing_decoy)
+{
+    const DecoyScene s;
+    const std::vector<Mat> src(1, s.color);
+    const float threshold = 60.f;
+    PoseParams one;
+    one.verification.top_k = 1;
+    one.verification.second_round_below = 0;
+    std::vector<PoseMatch> first;
+    DetectionStats stats_one;
+    s.det->detect(src, lmoIntrinsics(), threshold, first, std::vector<String>(), one, &stats_one);
+    ASSERT_GE(first.size(), 2u);
+    EXPECT_EQ(stats_one.verified, 1);
+    ASSERT_TRUE(s.inside(first[0], s.decoy_box)) << "the scene must put the decoy first";
+    ASSERT_GE(first[0].verification, 0.0);
+    EXPECT_EQ(first[1].verification, -1.0);
+
+    PoseParams two = one;
+    two.verification.second_round_below = 0.75; // the default
+    EXPECT_EQ(two.verification.second_round_below, PoseParams().verification.second_round_below);
+    ASSERT_LT(first[0].verification, two.verification.second_round_below)
+        << "the decoy must not convince the first round";
+    std::vector<PoseMatch> both;
+    DetectionStats stats_two;
+    s.det->detect(src, lmoIntrinsics(), threshold, both, std::vector<String>(), two, &stats_two);
+    EXPECT_EQ(stats_two.verified, 2);
+    ASSERT_EQ(both.size(), first.size()) << "a second-round detection replaces its first-round one";
+    ASSERT_GE(both[1].verification, 0.0);
+    EXPECT_GE(both[0].verification, both[1].verification);
+    EXPECT_TRUE(s.inside(both[0], s.object_box));
+    EXPECT_TRUE(s.inside(both[1], s.decoy_box));
+    EXPECT_DOUBLE_EQ(both[1].verification, first[0].verification);
+    for (size_t i = 2; i < both.size(); ++i)
+        EXPECT_EQ(both[i].verification, -1.0);
+    for (size_t i = 0; i < both.size(); ++i) // each location once
+        for (size_t j = i + 1; j < both.size(); ++j)
+            EXPECT_FALSE(both[i].x == both[j].x && both[i].y == both[j].y
+                         && both[i].box == both[j].box)
+                << i << " and " << j;
+
+    // a bar below the decoy's verification: the first round convinces, no second
+    PoseParams low = one;
+    low.verification.second_round_below = first[0].verification * 0.99;
+    std::vector<PoseMatch> convinced;
+    DetectionStats stats_low;
+    s.det->detect(src, lmoIntrinsics(), threshold, convinced, std::vector<String>(), low,
+                  &stats_low);
+    EXPECT_EQ(stats_low.verified, 1);
+    ASSERT_FALSE(convinced.empty());
+    EXPECT_TRUE(s.inside(convinced[0], s.decoy_box));
+    std::cout << "[ INFO    ] first round: decoy " << first[0].verification << "; second round: "
+              << "object " << both[0].verification << std::endl;
+}
+
 // hypotheses in a fixed order (verify() sorts by its score): by place and template
 static std::vector<PoseMatch> byPlace(std::vector<PoseMatch> m)
 {
@@ -777,6 +835,7 @@ TEST(Forestmod_Verification, params_read_write)
     VerificationParams p;
     p.enabled = false;
     p.top_k = 7;
+    p.second_round_below = 0.6;
     p.min_saturation = 0.3;
     p.min_value = 0.2;
     p.hue_tolerance = 25;
@@ -808,6 +867,7 @@ TEST(Forestmod_Verification, params_read_write)
     const VerificationParams& q = qq.verification;
     EXPECT_EQ(q.enabled, p.enabled);
     EXPECT_EQ(q.top_k, p.top_k);
+    EXPECT_EQ(q.second_round_below, p.second_round_below);
     EXPECT_EQ(q.min_saturation, p.min_saturation);
     EXPECT_EQ(q.min_value, p.min_value);
     EXPECT_EQ(q.hue_tolerance, p.hue_tolerance);
@@ -829,6 +889,7 @@ TEST(Forestmod_Verification, params_read_write)
     VerificationParams d;
     d.read(empty.root());
     EXPECT_EQ(d.top_k, VerificationParams().top_k);
+    EXPECT_EQ(d.second_round_below, VerificationParams().second_round_below);
     EXPECT_EQ(d.w_color, VerificationParams().w_color);
 }
 
@@ -848,6 +909,11 @@ TEST(Forestmod_Verification, bad_input_raises)
     EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
     p = VerificationParams();
     p.w_color = -1;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p = VerificationParams();
+    p.second_round_below = -0.1;
+    EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
+    p.second_round_below = std::numeric_limits<double>::quiet_NaN();
     EXPECT_THROW(det->verify(color, noArray(), K, m, p), cv::Exception);
     p = VerificationParams();
     p.w_similarity = p.w_color = p.w_edges = p.w_region = 0;

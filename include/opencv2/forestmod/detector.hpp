@@ -199,6 +199,12 @@ struct CV_EXPORTS_W_SIMPLE VerificationParams
     suppression; the matcher's order, or by background with background_weight > 0); the others
     keep their place after the verified ones. Default 10. */
     CV_PROP_RW int top_k;
+    /** Without depth, detect() (and forestmod_eval's verified rows) poses and verifies the next
+    top_k detections of a class whose best verified hypothesis scores below this, and ranks all of
+    them together: a second round where the first holds no convincing hypothesis. 0: one round
+    (above 1: always two). Default 0.75, set on LM-O frames the evaluation does not report
+    (doc/verification.md, "A second round"). */
+    CV_PROP_RW double second_round_below;
     /** A pixel whose HSV saturation (0..1) is below this, or whose value is below min_value, has
     no reliable hue: it falls into the achromatic bin (white, grey, black). A model pixel agrees
     with the scene when both are achromatic, or both chromatic with hues within hue_tolerance.
@@ -564,7 +570,10 @@ public:
     (PoseParams::depth_hypotheses; a detection none of whose passes is dropped), without depth
     the best edge fit (PoseParams::rgb_hypotheses). With
     params.verification.enabled (the default) the detections are then verified and re-ranked
-    (verify()): the returned order is the verification's. */
+    (verify()): the returned order is the verification's. Without depth, a class whose best
+    verified detection scores below verification.second_round_below has its next top_k
+    detections posed and verified as well (in place of their template-posed ones), all of them
+    ranked together. */
     void detect(const std::vector<Mat>& sources, const Matx33d& K, float threshold,
                 std::vector<PoseMatch>& matches,
                 const std::vector<String>& class_ids = std::vector<String>(),
