@@ -42,6 +42,9 @@ static const char* keys
       "verification's order; their scores on the overlay) }"
       "{verify          | true | verify and re-rank the detections (PoseParams::verification) }"
       "{verify_k        | 10   | hypotheses verified per class (VerificationParams::top_k) }"
+      "{second_round    | -1   | without depth: the next verify_k are verified for a class whose "
+      "best scores below this (VerificationParams::second_round_below; 0: one round; -1: the "
+      "library's default) }"
       "{rgb_hypotheses  | 24   | without depth: matches a detection's pose is chosen among "
       "(PoseParams::rgb_hypotheses) }"
       "{rgb_keep        | 4    | without depth: of those, refined past the first pass "
@@ -182,6 +185,7 @@ int main(int argc, char** argv)
     const int top = parser.get<int>("top");
     const bool verify = parser.get<bool>("verify");
     const int verify_k = parser.get<int>("verify_k");
+    const double second_round = parser.get<double>("second_round");
     const bool with_linemod = parser.has("linemod");
     const int repeat = parser.get<int>("repeat");
     cv::forestmod::PoseParams pose_params;
@@ -204,6 +208,12 @@ int main(int argc, char** argv)
     if (repeat < 1)
     {
         std::cerr << "forestmod_detect: --repeat must be at least 1\n";
+        return 1;
+    }
+    if (!(second_round >= 0 || second_round == -1) || !(second_round < 1e6))
+    {
+        std::cerr << "forestmod_detect: --second_round must be finite and >= 0 (-1: the "
+                     "library's default)\n";
         return 1;
     }
     if (!cv::utils::fs::exists(model))
@@ -337,6 +347,8 @@ int main(int argc, char** argv)
         std::vector<cv::forestmod::PoseMatch> matches;
         pose_params.verification.enabled = verify;
         pose_params.verification.top_k = verify_k;
+        if (second_round >= 0)
+            pose_params.verification.second_round_below = second_round;
         detector.detect(sources, K, threshold, matches, std::vector<cv::String>(), pose_params,
                         &stats);
         printf("%d matches in %.1f ms (quantize %.1f, forest %.1f, validation %.1f); %.1f %% of "

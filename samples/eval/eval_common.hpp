@@ -85,6 +85,7 @@ struct EvalOptions
     int verify_k;                      //!< hypotheses per object (recall@verify_k)
     //! w_similarity, w_color, w_edges, w_depth; empty: VerificationParams' defaults
     std::vector<double> verify_weights;
+    double second_round;      //!< VerificationParams::second_round_below (< 0: the default)
     double background_weight; //!< VerificationParams::background_weight (< 0: the default)
 
     /** --gt_similarity: each object also matched with a template made at its ground-truth pose

@@ -102,6 +102,8 @@ static const char* const keys
       "templates (with their depth samples, used for the initial poses) are made }"
       "{verify_k        | 10       | hypotheses per object (locations after grouping the "
       "matches), verified and counted in recall@k (VerificationParams::top_k) }"
+      "{second_round    | -1       | VerificationParams::second_round_below of the verified "
+      "rows without depth (0: one round of verify_k; -1: the library's default) }"
       "{background_weight | -1     | VerificationParams::background_weight of the verified rows "
       "(0: their hypotheses in the matcher's order; -1: the library's default) }"
       "{verify_weights  |          | w_similarity,w_color,w_edges,w_depth[,w_region] of the "
@@ -124,7 +126,8 @@ EvalOptions::EvalOptions()
       depth_range_tolerance(0.f),
       has_depth_range_tolerance(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
       depth_validation(true), hue_feature_saturation(-1),
-      hue_feature_area(-1.f), five_trees(true), verify_k(10), background_weight(-1),
+      hue_feature_area(-1.f), five_trees(true), verify_k(10), second_round(-1),
+      background_weight(-1),
       gt_similarity(false)
 {
     regimeSampler(regime, sampler);
@@ -299,6 +302,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.verify_k = parser.get<int>("verify_k");
     opt.gt_similarity = parser.has("gt_similarity");
     opt.background_weight = parser.get<double>("background_weight");
+    opt.second_round = parser.get<double>("second_round");
     const std::string weights_arg = parser.get<std::string>("verify_weights");
     // the sampler: the regime's, then the flags given
     fm::ViewSampler::Params& sp = opt.sampler;
@@ -353,6 +357,8 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
         return fail("--rgb_keep must be >= 1");
     if (opt.verify_k < 1)
         return fail("--verify_k must be >= 1");
+    if (!(opt.second_round >= 0 || opt.second_round == -1) || !(opt.second_round < 1e6))
+        return fail("--second_round must be finite and >= 0 (-1: the default)");
     if (opt.hue_feature_saturation < -1 || opt.hue_feature_saturation > 255)
         return fail("--hue_feature_saturation must be in [0, 255] (-1: the default)");
     if (opt.hue_feature_area != -1.f

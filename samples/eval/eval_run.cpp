@@ -39,11 +39,13 @@ static cv::Rect2d groundTruthBox(const fm::GroundTruth& gt, const EvalFrame& f,
 }
 
 /** Scores one hypothesis (or none) of an object against its ground truth (gt_box: its box,
-groundTruthBox) into res and rec. top: the hypotheses in rank order, for recall@10. record: their
-features into rec.hyps. */
+groundTruthBox) into res and rec. top: the hypotheses in rank order, the first `at` of them for
+recall@10 (after a second round of the verification there are more). record: their features
+into rec.hyps. */
 static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::GroundTruth& gt,
                             const cv::Rect2d& gt_box, const EvalFrame& f, const ObjectInfo& obj,
-                            bool use_depth, Result& res, FrameRecord& rec, bool record = false)
+                            bool use_depth, Result& res, FrameRecord& rec, bool record = false,
+                            size_t at = std::numeric_limits<size_t>::max())
 {
     ++res.n2d;
     if (use_depth)
@@ -67,8 +69,8 @@ static void scoreHypotheses(const std::vector<fm::PoseMatch>& top, const fm::Gro
             rec.hyps.push_back(cv::Vec<double, 9>(h.similarity, h.color_score, h.edge_score,
                                                   h.depth_score, h.occlusion, iou, proj,
                                                   h.region_score, h.background));
-        hit2d = hit2d || iou >= 0.5;
-        hitproj = hitproj || proj < 5.0;
+        hit2d = hit2d || (k < at && iou >= 0.5);
+        hitproj = hitproj || (k < at && proj < 5.0);
         if (k > 0)
             continue;
         // the first hypothesis is the detector's answer
@@ -158,14 +160,14 @@ static void bestOnAndOff(const std::vector<cv::linemod::Match>& matches,
 
 /** The hypotheses of an object in a frame, as Detector::detect() makes them: the class's
 matches (in the order given) grouped by location (greedy, box IoU > 0.5 with a group's first
-match) into up to ctx.verify.top_k locations, each with its pose (RGB, refined: the best edge
-fit of its first rgb_hypotheses matches; RGB-D: the first of depth_hypotheses whose ICP pose
-passes the depth check). edge_maps: the frame's, made around the groups (RGB, refined). Returns
-the time taken (ms). */
+match), the ctx.verify.top_k locations after the first `skip`, each with its pose (RGB, refined:
+the best edge fit of its first rgb_hypotheses matches; RGB-D: the first of depth_hypotheses
+whose ICP pose passes the depth check). edge_maps: the frame's, made around the groups (RGB,
+refined). Returns the time taken (ms). */
 static double poseHypotheses(const std::vector<fm::PoseMatch>& matches,
                              const fm::Detector& posedet, const EvalFrame& f,
                              const RunContext& ctx, std::vector<fm::PoseMatch>& top,
-                             fm::EdgeMaps& edge_maps)
+                             fm::EdgeMaps& edge_maps, size_t skip = 0)
 {
     const bool use_depth = ctx.use_depth;
     fm::PoseParams pp;
@@ -179,7 +181,7 @@ static double poseHypotheses(const std::vector<fm::PoseMatch>& matches,
     const bool choose = use_depth || ctx.rgb_refine;
     const size_t keep = use_depth ? (size_t)pp.depth_hypotheses
                                   : choose ? (size_t)pp.rgb_hypotheses : 1;
-    const size_t K = (size_t)std::max(1, ctx.verify.top_k);
+    const size_t K = skip + (size_t)std::max(1, ctx.verify.top_k);
     std::vector<std::vector<fm::PoseMatch> > groups;
     for (size_t i = 0; i < matches.size(); ++i)
     {
@@ -195,6 +197,7 @@ static double poseHypotheses(const std::vector<fm::PoseMatch>& matches,
         else if (groups[g].size() < keep)
             groups[g].push_back(pm);
     }
+    groups.erase(groups.begin(), groups.begin() + std::min(skip, groups.size()));
     top.clear(); // one hypothesis per location, in the order given
     const int64 t_pose = cv::getTickCount();
     // one set of edge maps for the frame, around every group (as detect() makes them around its
@@ -232,6 +235,20 @@ static double poseHypotheses(const std::vector<fm::PoseMatch>& matches,
             top.push_back(hyp[0]);
     }
     return (cv::getTickCount() - t_pose) * 1000.0 / cv::getTickFrequency();
+}
+
+/** Detector::verify() of an object's hypotheses, on the refinement's edge maps where there are
+any (RGB). */
+static void verifyHypotheses(const fm::Detector& posedet, const EvalFrame& f,
+                             const RunContext& ctx, std::vector<fm::PoseMatch>& top,
+                             const fm::EdgeMaps& edge_maps, fm::DetectionStats& stats)
+{
+    if (top.empty())
+        return;
+    if (!edge_maps.distance.empty()) // the refinement's maps (RGB)
+        posedet.verify(f.rgb, cv::Mat(), f.K, top, ctx.verify, &stats, edge_maps);
+    else
+        posedet.verify(f.rgb, ctx.use_depth ? f.depth : cv::Mat(), f.K, top, ctx.verify, &stats);
 }
 
 /** Scores the hypotheses of an object in a frame. matches: the detector's output (sorted, best
@@ -290,23 +307,44 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
     if (!verified)
         return;
     fm::DetectionStats stats;
+    std::vector<fm::PoseMatch> by_background;
     if (ctx.verify.background_weight > 0 && !ordered.empty())
     {
         // detect()'s order: the matches that stand out from the frame first
         posedet.backgroundSimilarity(sourcesOf(posedet.getModalities(), f.rgb,
                                                use_depth ? f.depth : cv::Mat()),
                                      ordered, ctx.verify.background_quantile, &stats);
-        std::vector<fm::PoseMatch> by_background = ordered;
+        by_background = ordered;
         fm::orderByBackground(by_background, ctx.verify.background_weight);
         verified->pose.push_back(poseHypotheses(by_background, posedet, f, ctx, top, edge_maps));
     }
-    if (!top.empty() && !edge_maps.distance.empty()) // the refinement's maps (RGB)
-        posedet.verify(f.rgb, cv::Mat(), f.K, top, ctx.verify, &stats, edge_maps);
-    else if (!top.empty())
-        posedet.verify(f.rgb, use_depth ? f.depth : cv::Mat(), f.K, top, ctx.verify, &stats);
+    else // the plain row's hypotheses, posed above
+        verified->pose.push_back(res.pose.back());
+    verifyHypotheses(posedet, f, ctx, top, edge_maps, stats);
+    // detect()'s second round (VerificationParams::second_round_below, RGB): the next top_k
+    // locations when the first top_k hold no convincing hypothesis, all of them ranked together
+    double best = -1;
+    for (size_t k = 0; k < top.size(); ++k)
+        best = std::max(best, top[k].verification);
+    if (!use_depth && ctx.rgb_refine && best >= 0 && best < ctx.verify.second_round_below)
+    {
+        std::vector<fm::PoseMatch> more;
+        fm::EdgeMaps maps2; // around these locations, as detect() makes them
+        const double ms = poseHypotheses(by_background.empty() ? ordered : by_background,
+                                         posedet, f, ctx, more, maps2, (size_t)ctx.verify.top_k);
+        verified->pose.back() += ms;
+        verifyHypotheses(posedet, f, ctx, more, maps2, stats);
+        const size_t n_first = top.size();
+        top.insert(top.end(), more.begin(), more.end());
+        std::inplace_merge(top.begin(), top.begin() + (std::ptrdiff_t)n_first, top.end(),
+                           [](const fm::PoseMatch& a, const fm::PoseMatch& b) {
+                               return a.verification > b.verification;
+                           });
+    }
     verified->verify.push_back(stats.t_verify_ms);
     verified->background.push_back(stats.t_background_ms);
-    scoreHypotheses(top, *gt, on_object, f, obj, use_depth, *verified, rec, true);
+    scoreHypotheses(top, *gt, on_object, f, obj, use_depth, *verified, rec, true,
+                    (size_t)ctx.verify.top_k);
 }
 
 // the matcher's times and counters of a result, for its verified twin
@@ -479,6 +517,8 @@ RunContext runContext(const EvalOptions& opt, const std::vector<EvalFrame>& fram
     ctx.verify.top_k = opt.verify_k;
     if (opt.background_weight >= 0)
         ctx.verify.background_weight = opt.background_weight;
+    if (opt.second_round >= 0)
+        ctx.verify.second_round_below = opt.second_round;
     if (!opt.verify_weights.empty())
     {
         ctx.verify.w_similarity = opt.verify_weights[0];

@@ -282,12 +282,13 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
     printf("%s", meanRow("forestmod, 1 tree, verified", r1v).c_str());
     printf("%s", meanRow("cv::linemod, verified", rlv).c_str());
     {
-        std::vector<double> tv, tp, tb;
+        std::vector<double> tv, tp, tpv, tb;
         for (size_t o = 0; o < objects.size(); ++o)
         {
             tv.insert(tv.end(), r1v[o].verify.begin(), r1v[o].verify.end());
             tv.insert(tv.end(), rlv[o].verify.begin(), rlv[o].verify.end());
             tp.insert(tp.end(), r1[o].pose.begin(), r1[o].pose.end());
+            tpv.insert(tpv.end(), r1v[o].pose.begin(), r1v[o].pose.end());
             tb.insert(tb.end(), r1v[o].background.begin(), r1v[o].background.end());
         }
         printf("\nRecall@1 (2D IoU >= 0.5, proj < 5 px) scores each detector's first hypothesis, "
@@ -295,18 +296,21 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
                "0.5). *verified*: the hypotheses of the matches ordered by similarity - %s x "
                "background (Detector::backgroundSimilarity, as Detector::detect() orders them; "
                "T_background for forestmod's: median %s ms, max %s ms), re-ranked by "
-               "Detector::verify(); T_verify "
-               "(verification alone, up to %d hypotheses per object and frame): median %s ms, "
-               "max %s ms. T_pose (forestmod's hypotheses' poses, Detector::choosePoses: with depth "
+               "Detector::verify(), without depth with a second round of the next %d where the "
+               "best of the first scores below %s (VerificationParams::second_round_below); "
+               "T_verify (verification alone, up to %d hypotheses per object and frame, twice "
+               "as many with a second round): median %s ms, max %s ms. T_pose (forestmod's "
+               "hypotheses' poses, Detector::choosePoses: with depth "
                "the first of each location's matches whose ICP pose passes the depth check; "
                "without it the first %d refined by edge alignment, %d of them past the first "
-               "pass): median %s "
-               "ms, max %s ms.\n", opt.verify_k, opt.verify_k,
+               "pass): median %s ms, max %s ms; of the verified hypotheses (both rounds): "
+               "median %s ms, max %s ms.\n", opt.verify_k, opt.verify_k,
                num(ctx.verify.background_weight).c_str(),
                num(median(tb)).c_str(), num(quantile(tb, 1)).c_str(), opt.verify_k,
+               num(ctx.verify.second_round_below).c_str(), opt.verify_k,
                num(median(tv)).c_str(), num(quantile(tv, 1)).c_str(), opt.rgb_hypotheses,
-               opt.rgb_keep,
-               num(median(tp)).c_str(), num(quantile(tp, 1)).c_str());
+               opt.rgb_keep, num(median(tp)).c_str(), num(quantile(tp, 1)).c_str(),
+               num(median(tpv)).c_str(), num(quantile(tpv, 1)).c_str());
     }
     if (opt.gt_similarity)
         printSimilarityOnTheObject(objects, r1, rl);
