@@ -547,11 +547,8 @@ static void secondRound(const Detector& det, detail::PoseEstimator& poses,
     for (size_t i = 0; i < matches.size(); ++i)
         if (matches[i].verification >= 0)
         {
-            std::map<String, double>::iterator b = best.find(matches[i].class_id);
-            if (b == best.end())
-                best[matches[i].class_id] = matches[i].verification;
-            else
-                b->second = std::max(b->second, matches[i].verification);
+            double& b = best.emplace(matches[i].class_id, 0.0).first->second;
+            b = std::max(b, matches[i].verification);
         }
     std::vector<std::vector<PoseMatch> > more;
     for (size_t k = 0; k < next.size(); ++k)
