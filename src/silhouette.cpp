@@ -12,6 +12,7 @@
 #include "opencv2/core/hal/intrin.hpp"
 #include "opencv2/imgproc.hpp"
 
+#include <algorithm>
 #include <map>
 
 namespace cv {
@@ -64,6 +65,25 @@ SilhouetteEdges silhouetteEdges(const Mesh& mesh, int winding)
     {
         s.faces.push_back(edges[e].first);
         s.ends.push_back(edges[e].second);
+    }
+    // the blocks' chunks (listSilhouetteEdges skips the blocks whose chunks are uniform)
+    const int ne = (int)s.faces.size(), C = SilhouetteEdges::kChunkFaces;
+    const int missing = (nf + C - 1) / C, mixed = missing + 1;
+    s.block_start.push_back(0);
+    for (int b = 0; b < ne; b += SilhouetteEdges::kBlockEdges)
+    {
+        std::vector<int> chunks;
+        for (int e = b; e < std::min(ne, b + (int)SilhouetteEdges::kBlockEdges); ++e)
+            for (int k = 0; k < 2; ++k)
+            {
+                const int f = s.faces[e][k], c = f >= 0 ? f / C : missing;
+                if (std::find(chunks.begin(), chunks.end(), c) == chunks.end())
+                    chunks.push_back(c);
+            }
+        if (chunks.size() > (size_t)SilhouetteEdges::kBlockChunks)
+            chunks.assign(1, mixed);
+        s.block_chunks.insert(s.block_chunks.end(), chunks.begin(), chunks.end());
+        s.block_start.push_back((int)s.block_chunks.size());
     }
     return s;
 }
@@ -165,18 +185,67 @@ static void facingCamera(const float* plane, int n, const Vec3d& centre, uchar* 
 
 } // namespace
 
+// Per chunk of SilhouetteEdges::kChunkFaces faces: 0 when none of them faces the camera, 255
+// when all do, else 1; then 0 for the missing face of the edges without a second one and 1 for
+// the blocks that are never uniform (silhouetteEdges()).
+static void chunkStates(const uchar* front, int nf, std::vector<uchar>& state)
+{
+    const int C = SilhouetteEdges::kChunkFaces, nc = (nf + C - 1) / C;
+    state.resize(nc + 2);
+    int c = 0;
+#if CV_SIMD128
+    for (; (c + 1) * C <= nf; ++c)
+    {
+        const v_uint8x16 v = v_load(front + c * C);
+        state[c] = !v_check_any(v != v_setzero_u8()) ? 0
+            : v_check_all(v == v_setall_u8(255)) ? 255 : 1;
+    }
+#endif
+    for (; c < nc; ++c)
+    {
+        const int end = std::min(nf, (c + 1) * C);
+        int ones = 0;
+        for (int f = c * C; f < end; ++f)
+            ones += front[f] != 0;
+        state[c] = ones == 0 ? 0 : ones == end - c * C ? 255 : 1;
+    }
+    state[nc] = 0;
+    state[nc + 1] = 1;
+}
+
 // The edges of `s` where a face that looks towards the camera (front) meets one that does not, or
-// that a front face shares with no other face or with several: their indices into listed,
-// without a branch per edge (a few per cent of them are listed); returns their number.
-static int listSilhouetteEdges(const SilhouetteEdges& s, const uchar* front, int* listed)
+// that a front face shares with no other face or with several: their indices into listed, in
+// order, without a branch per edge (a few per cent of them are listed); returns their number.
+// With the blocks (useOptimized()), a block of edges whose faces' chunks all look the same way
+// is passed over: none of its edges is listed either way.
+static int listSilhouetteEdges(const SilhouetteEdges& s, const uchar* front, int nf, int* listed)
 {
     const int ne = (int)s.faces.size();
     const Vec2i* faces = s.faces.data();
+    const int B = SilhouetteEdges::kBlockEdges;
+    const bool blocks = useOptimized() && s.block_start.size() == (size_t)(ne + B - 1) / B + 1;
+    static thread_local std::vector<uchar> state;
+    if (blocks)
+        chunkStates(front, nf, state);
     int n = 0;
-    for (int e = 0; e < ne; ++e)
+    for (int b = 0; b < ne; b += B)
     {
-        listed[n] = e;
-        n += front[faces[e][0]] != (faces[e][1] >= 0 ? front[faces[e][1]] : 0);
+        if (blocks)
+        {
+            const int* c = s.block_chunks.data() + s.block_start[b / B];
+            const int* c_end = s.block_chunks.data() + s.block_start[b / B + 1];
+            const uchar first = state[*c];
+            bool uniform = first != 1;
+            for (++c; uniform && c < c_end; ++c)
+                uniform = state[*c] == first;
+            if (uniform)
+                continue;
+        }
+        for (int e = b, end = std::min(ne, b + B); e < end; ++e)
+        {
+            listed[n] = e;
+            n += front[faces[e][0]] != (faces[e][1] >= 0 ? front[faces[e][1]] : 0);
+        }
     }
     return n;
 }
@@ -267,7 +336,7 @@ bool meshSilhouette(const Mesh& mesh, const SilhouetteEdges& s, const Matx33d& K
     facingCamera(s.plane.data(), nf, -(R.t() * t), front.data());
     static thread_local std::vector<int> listed;
     listed.resize(s.faces.size());
-    const int nl = listSilhouetteEdges(s, front.data(), listed.data());
+    const int nl = listSilhouetteEdges(s, front.data(), nf, listed.data());
     // the silhouette edges projected and drawn
     const Matx33f KR = Matx33f(K * R);
     const Vec3f Kt = Vec3f(K * t);

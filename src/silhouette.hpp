@@ -30,6 +30,14 @@ struct CV_EXPORTS SilhouetteEdges
     std::vector<Vec2i> faces;
     std::vector<Vec2i> ends; //!< per edge its vertices
     Point3f box_min, box_max; //!< the mesh's bounding box
+    /** The edges in blocks of kBlockEdges, each with the chunks of kChunkFaces faces that its
+    edges' faces belong to (chunk `nf / kChunkFaces` rounded up stands for the missing face of an
+    edge that the second face leaves -1, as facing away; one more, never uniform, for a block of
+    more than kBlockChunks chunks): block b's are block_chunks[block_start[b] ..
+    block_start[b + 1]). A block whose chunks all face the camera, or all face away, holds no
+    silhouette edge. The faces ordered by clusterFaces() make most chunks uniform. */
+    std::vector<int> block_start, block_chunks;
+    enum { kBlockEdges = 32, kChunkFaces = 16, kBlockChunks = 24 };
 };
 
 /** The silhouette edges of a mesh whose faces turn `winding` seen from outside (closedWinding(),

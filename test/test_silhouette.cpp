@@ -162,6 +162,92 @@ TEST(Forestmod_Silhouette, outline_follows_the_drawn_mask)
     EXPECT_GE(cut, 3);
 }
 
+// The edges' blocks (SilhouetteEdges::block_start, block_chunks) hold the chunks of every face of
+// their edges. At the ape's views, a block whose chunks all look one way (the listing passes over
+// it) holds no silhouette edge, such blocks are a good share of them, and the outline with the
+// blocks (cv::useOptimized()) is the outline without them, point for point.
+TEST(Forestmod_Silhouette, edge_blocks_pass_over_uniform_chunks_only)
+{
+    const Mesh ape = Mesh::load(cvtest::findDataFile("lmo_mini/models/obj_000001.ply"));
+    Mesh coarse = fd::coarseMesh(ape, fd::drawingCell(ape.diameter()));
+    const int winding = fd::closedWinding(coarse);
+    ASSERT_NE(winding, 0);
+    fd::clusterFaces(coarse, winding);
+    const fd::SilhouetteEdges edges = fd::silhouetteEdges(coarse, winding);
+    const int ne = (int)edges.faces.size(), nf = (int)coarse.faces.size();
+    const int B = fd::SilhouetteEdges::kBlockEdges, C = fd::SilhouetteEdges::kChunkFaces;
+    const int missing = (nf + C - 1) / C, mixed = missing + 1, nb = (ne + B - 1) / B;
+    ASSERT_EQ(edges.block_start.size(), (size_t)nb + 1);
+    ASSERT_EQ((size_t)edges.block_start.back(), edges.block_chunks.size());
+    for (int b = 0; b < nb; ++b)
+    {
+        const int* first = edges.block_chunks.data() + edges.block_start[b];
+        const int* last = edges.block_chunks.data() + edges.block_start[b + 1];
+        ASSERT_LT(first, last) << b;
+        if (*first == mixed)
+            continue;
+        ASSERT_LE(last - first, (int)fd::SilhouetteEdges::kBlockChunks) << b;
+        for (int e = b * B; e < std::min(ne, (b + 1) * B); ++e)
+            for (int k = 0; k < 2; ++k)
+            {
+                const int f = edges.faces[e][k], c = f >= 0 ? f / C : missing;
+                ASSERT_TRUE(std::find(first, last, c) != last) << e;
+            }
+    }
+    const Matx33d K = lmoIntrinsics();
+    const std::vector<ViewPose> views = pose_test::hemisphereViews(ape, { 400.0, 1000.0 });
+    double uniform_share = 0;
+    int n = 0;
+    for (size_t i = 0; i < views.size(); i += 3, ++n)
+    {
+        const Matx33d& R = views[i].R;
+        const Vec3d& t = views[i].t;
+        // each face as the library tests it, each chunk's faces: 0 none front, 2 all, 1 some
+        const Vec3d c = -(R.t() * t);
+        std::vector<int> front(nf), state(missing + 2, 0);
+        for (int f = 0; f < nf; ++f)
+            front[f] = edges.plane[f] * (float)c[0] + edges.plane[nf + f] * (float)c[1]
+                    + edges.plane[2 * nf + f] * (float)c[2]
+                > edges.plane[3 * nf + f];
+        for (int k = 0; k < missing; ++k)
+        {
+            const int end = std::min(nf, (k + 1) * C);
+            const int on = (int)std::count(front.begin() + k * C, front.begin() + end, 1);
+            state[k] = on == 0 ? 0 : on == end - k * C ? 2 : 1;
+        }
+        state[mixed] = 1;
+        int uniform = 0;
+        for (int b = 0; b < nb; ++b)
+        {
+            std::set<int> states;
+            for (int j = edges.block_start[b]; j < edges.block_start[b + 1]; ++j)
+                states.insert(state[edges.block_chunks[j]]);
+            if (states.size() != 1 || *states.begin() == 1)
+                continue;
+            ++uniform;
+            for (int e = b * B; e < std::min(ne, (b + 1) * B); ++e)
+            {
+                const int f1 = edges.faces[e][1];
+                ASSERT_EQ(front[edges.faces[e][0]], f1 >= 0 ? front[f1] : 0) << i << " " << e;
+            }
+        }
+        uniform_share += uniform / (double)nb;
+        std::vector<fd::SilhouettePoint> with, without;
+        fd::meshSilhouette(coarse, edges, K, R, t, Size(640, 480), 400, with);
+        cv::setUseOptimized(false);
+        fd::meshSilhouette(coarse, edges, K, R, t, Size(640, 480), 400, without);
+        cv::setUseOptimized(true);
+        ASSERT_EQ(with.size(), without.size()) << i;
+        for (size_t k = 0; k < with.size(); ++k)
+        {
+            ASSERT_EQ(with[k].model, without[k].model) << i << " " << k;
+            ASSERT_EQ(with[k].normal, without[k].normal) << i << " " << k;
+        }
+    }
+    ASSERT_GT(n, 20);
+    EXPECT_GT(uniform_share / n, 0.5) << uniform_share / n; // 0.64 at commit time
+}
+
 // A closed prism of height h over an L of three squares of side a (corners (0, 0), (2a, 0),
 // (2a, a), (a, a), (a, 2a), (0, 2a) counter-clockwise: vertices 0-5 at z = 0, 6-11 at z = h),
 // faces turning counter-clockwise seen from outside. Its one concave edge joins vertices 3 and 9.
