@@ -335,6 +335,7 @@ TEST(Forestmod_Eval, json_on_a_rendered_bop_dataset)
             checkResult(o[vrow], what + " " + vrow, k == 0);
             checkPerFrame(o[vrow], 5, true, what + " " + vrow);
             EXPECT_GE(number(o[vrow]["t_verify_ms"]), 0.0) << what << " " << vrow;
+            EXPECT_GE(number(o[vrow]["t_verify_per10_ms"]), 0.0) << what << " " << vrow;
             EXPECT_GE(number(o[row]["t_pose_ms"]), 0.0) << what << " " << row;
             EXPECT_GE(number(o[row]["recall_2d_at10"]), number(o[row]["recall_2d"])) << what;
             EXPECT_GE(number(o[vrow]["recall_2d_at10"]), number(o[vrow]["recall_2d"])) << what;

@@ -185,6 +185,8 @@ struct Result
     int n2d, ok2d, okproj, nadd, okadd;
     int ok2d_at10, okproj_at10; //!< any of the first 10 hypotheses (RunContext::verify.top_k)
     std::vector<double> verify; //!< verified rows: t_verify_ms of every frame
+    //! verified rows: t_verify_ms per 10 verified hypotheses, of every frame that verified any
+    std::vector<double> verify_per10;
     //! verified rows: t_background_ms of every frame (Detector::backgroundSimilarity)
     std::vector<double> background;
     /** ms per frame of the hypotheses' poses (choosePoses of every location's matches: without

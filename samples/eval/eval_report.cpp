@@ -84,6 +84,8 @@ void writeResult(cv::FileStorage& fs, const std::string& key, const Result& r, b
     writeNumber(fs, "proj2d_5px_at10", ratio(r.okproj_at10, r.n2d));
     if (!r.verify.empty()) // verified rows: the verification stage alone, median ms per frame
         writeNumber(fs, "t_verify_ms", median(r.verify));
+    if (!r.verify_per10.empty()) // the same per 10 hypotheses (a second round verifies up to 20)
+        writeNumber(fs, "t_verify_per10_ms", median(r.verify_per10));
     if (!r.background.empty()) // verified rows: the background similarity, median ms per frame
         writeNumber(fs, "t_background_ms", median(r.background));
     if (!r.pose.empty()) // plain rows: the hypotheses' poses, median ms per frame

@@ -342,6 +342,8 @@ static void scoreFrame(const std::vector<cv::linemod::Match>& matches, const fm:
                            });
     }
     verified->verify.push_back(stats.t_verify_ms);
+    if (stats.verified > 0)
+        verified->verify_per10.push_back(stats.t_verify_ms * 10.0 / stats.verified);
     verified->background.push_back(stats.t_background_ms);
     scoreHypotheses(top, *gt, on_object, f, obj, use_depth, *verified, rec, true,
                     (size_t)ctx.verify.top_k);

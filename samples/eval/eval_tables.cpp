@@ -282,11 +282,13 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
     printf("%s", meanRow("forestmod, 1 tree, verified", r1v).c_str());
     printf("%s", meanRow("cv::linemod, verified", rlv).c_str());
     {
-        std::vector<double> tv, tp, tpv, tb;
+        std::vector<double> tv, tv10, tp, tpv, tb;
         for (size_t o = 0; o < objects.size(); ++o)
         {
             tv.insert(tv.end(), r1v[o].verify.begin(), r1v[o].verify.end());
             tv.insert(tv.end(), rlv[o].verify.begin(), rlv[o].verify.end());
+            tv10.insert(tv10.end(), r1v[o].verify_per10.begin(), r1v[o].verify_per10.end());
+            tv10.insert(tv10.end(), rlv[o].verify_per10.begin(), rlv[o].verify_per10.end());
             tp.insert(tp.end(), r1[o].pose.begin(), r1[o].pose.end());
             tpv.insert(tpv.end(), r1v[o].pose.begin(), r1v[o].pose.end());
             tb.insert(tb.end(), r1v[o].background.begin(), r1v[o].background.end());
@@ -299,7 +301,8 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
                "Detector::verify(), without depth with a second round of the next %d where the "
                "best of the first scores below %s (VerificationParams::second_round_below); "
                "T_verify (verification alone, up to %d hypotheses per object and frame, twice "
-               "as many with a second round): median %s ms, max %s ms. T_pose (forestmod's "
+               "as many with a second round): median %s ms, max %s ms; per 10 verified "
+               "hypotheses median %s ms, max %s ms. T_pose (forestmod's "
                "hypotheses' poses, Detector::choosePoses: with depth "
                "the first of each location's matches whose ICP pose passes the depth check; "
                "without it the first %d refined by edge alignment, %d of them past the first "
@@ -308,7 +311,8 @@ int runTables(const EvalOptions& opt, std::vector<ObjectInfo>& objects,
                num(ctx.verify.background_weight).c_str(),
                num(median(tb)).c_str(), num(quantile(tb, 1)).c_str(), opt.verify_k,
                num(ctx.verify.second_round_below).c_str(), opt.verify_k,
-               num(median(tv)).c_str(), num(quantile(tv, 1)).c_str(), opt.rgb_hypotheses,
+               num(median(tv)).c_str(), num(quantile(tv, 1)).c_str(),
+               num(median(tv10)).c_str(), num(quantile(tv10, 1)).c_str(), opt.rgb_hypotheses,
                opt.rgb_keep, num(median(tp)).c_str(), num(quantile(tp, 1)).c_str(),
                num(median(tpv)).c_str(), num(quantile(tpv, 1)).c_str());
     }
