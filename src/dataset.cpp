@@ -48,6 +48,9 @@ Mat Frame::depth() const
         CV_Error_(Error::StsUnsupportedFormat,
                   ("Frame::depth: '%s' is %s, expected a 16-bit single-channel PNG",
                    depth_path.c_str(), typeToString(d.type()).c_str()));
+    if (!(depth_scale > 0) || !std::isfinite(depth_scale))
+        CV_Error_(Error::StsBadArg, ("Frame::depth: depth_scale is %g, it must be positive and "
+                                     "finite (mm per stored unit)", depth_scale));
     if (depth_scale != 1.0)
         d.convertTo(d, CV_16U, depth_scale); // rounds and saturates
     return d;
@@ -474,6 +477,14 @@ void BopResultWriter::write(int scene_id, int im_id, int obj_id, double score, c
 {
     if (!impl_ || !impl_->out.is_open())
         CV_Error_(Error::StsError, ("BopResultWriter: '%s' is closed", path_.c_str()));
+    bool finite = std::isfinite(score) && std::isfinite(time_s);
+    for (int i = 0; i < 9; ++i)
+        finite = finite && std::isfinite(R.val[i]);
+    for (int i = 0; i < 3; ++i)
+        finite = finite && std::isfinite(t[i]);
+    if (!finite) // a BOP results file must parse: the line is not written
+        CV_Error_(Error::StsBadArg, ("BopResultWriter: scene %d, image %d, object %d: score, R, t "
+                                     "and time must be finite", scene_id, im_id, obj_id));
     String line = format("%d,%d,%d,%.9g,", scene_id, im_id, obj_id, score);
     for (int i = 0; i < 9; ++i)
         line += format(i ? " %.12g" : "%.12g", R.val[i]);

@@ -40,10 +40,14 @@ Detector::Detector(const std::vector<Ptr<Modality> >& _modalities,
         CV_Error(Error::StsBadArg, "forestmod::Detector: at least one modality is needed");
     if (T_pyramid.empty())
         CV_Error(Error::StsBadArg, "forestmod::Detector: T_pyramid must not be empty");
+    if (_modalities.size() > (size_t)detail::MAX_MODALITIES)
+        CV_Error_(Error::StsBadArg, ("forestmod::Detector: %d modalities, at most %d",
+                                     (int)_modalities.size(), (int)detail::MAX_MODALITIES));
+    // what load() accepts, so that every detector made can be saved and loaded again
     for (size_t i = 0; i < _modalities.size(); ++i)
-        CV_Assert(!_modalities[i].empty() && "forestmod::Detector: null modality");
-    for (size_t i = 0; i < T_pyramid.size(); ++i)
-        CV_CheckGT(T_pyramid[i], 0, "forestmod::Detector: every T must be positive");
+        detail::checkModality(_modalities[i], (int)i, "forestmod::Detector", Error::StsBadArg);
+    detail::checkPyramidGeometry(T_pyramid, (int)T_pyramid.size(), "forestmod::Detector",
+                                 Error::StsBadArg);
     detail::checkParams(params);
     impl_->params = params;
     impl_->roles = detail::ModalityRoles::of(modalities);
@@ -152,11 +156,19 @@ TemplatePose Detector::getTemplatePose(const String& class_id, int template_id) 
 // ---------------------------------------------------------------------------------------------
 // Templates
 
+// a class id that a model file can hold (read() refuses a class without one)
+static void checkClassId(const String& class_id, const char* who)
+{
+    if (class_id.empty())
+        CV_Error_(Error::StsBadArg, ("%s: class_id must not be empty", who));
+}
+
 static int addOneTemplate(const std::vector<Ptr<Modality> >& modalities, int pyramid_levels,
                           ClassPyramids& pyramids, DetectorImpl& impl,
                           const std::vector<Mat>& sources, const String& class_id,
                           const Mat& object_mask, const TemplatePose& pose, Rect* bounding_box)
 {
+    checkClassId(class_id, "forestmod::Detector::addTemplate");
     detail::TemplatePyramid tp;
     detail::TemplateRecord record;
     record.pose = pose;
@@ -201,7 +213,12 @@ int Detector::addTemplates(const Mesh& mesh, const String& class_id, const ViewS
 {
     if (modalities.empty())
         CV_Error(Error::StsError, "forestmod::Detector::addTemplates: no modalities");
-    setMesh(class_id, mesh);
+    checkClassId(class_id, "forestmod::Detector::addTemplates");
+    mesh.validate(); // before rendering; setMesh() takes it once it gave templates
+    if (sampler.size() == 0)
+        CV_Error_(Error::StsBadArg, ("forestmod::Detector::addTemplates: class '%s': the sampler "
+                                     "gives no pose (its elevation range holds no view)",
+                                     class_id.c_str()));
     int added = 0, views = 0;
     renderTemplates(mesh, sampler, K, size,
                     [&](const TemplateView& v, int done, int total) -> bool {
@@ -215,11 +232,14 @@ int Detector::addTemplates(const Mesh& mesh, const String& class_id, const ViewS
                         return progress ? progress(done, total) : true;
                     });
     detail::checkViewsGaveTemplates(added, views, class_id);
+    if (added > 0) // the mesh of a class that has templates from it
+        setMesh(class_id, mesh);
     return added;
 }
 
 int Detector::addSyntheticTemplate(const std::vector<Template>& templates, const String& class_id)
 {
+    checkClassId(class_id, "forestmod::Detector::addSyntheticTemplate");
     const int M = static_cast<int>(modalities.size());
     if (M == 0 || (int)templates.size() != M * pyramid_levels)
         CV_Error_(Error::StsBadArg, ("forestmod::Detector::addSyntheticTemplate: expected %d "

@@ -162,6 +162,9 @@ void Detector::read(const FileNode& fn)
 
 void Detector::write(FileStorage& fs) const
 {
+    if (modalities.empty())
+        CV_Error(Error::StsError, "forestmod::Detector::write: the detector has no modalities "
+                                  "(default-constructed and never read or loaded?)");
     fs << "pyramid_levels" << pyramid_levels;
     fs << "T" << T_at_level;
     fs << "modalities" << "[";

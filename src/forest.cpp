@@ -21,6 +21,8 @@ using detail::RejectorRef;
 using detail::BackgroundRejectorTrainer;
 
 static const int kFormatVersion = 1;
+// template ids index per-template tables (leaf counts, candidates): 2^24 templates at most
+static const int kMaxTemplateId = 1 << 24;
 
 // ------------------------------------------------------------------------------------------------
 // Params and stats
@@ -672,10 +674,11 @@ public:
             for (int i = 0; i < desc.rows; ++i)
             {
                 template_of[i] = idc.at<int>(i);
-                if (template_of[i] < 0)
+                if (template_of[i] < 0 || template_of[i] >= kMaxTemplateId)
                     CV_Error_(Error::StsBadArg,
-                              ("TemplateForest::train: template_ids[%d] = %d is negative", i,
-                               template_of[i]));
+                              ("TemplateForest::train: template_ids[%d] = %d is outside "
+                               "[0, %d) (ids index per-template tables)", i, template_of[i],
+                               kMaxTemplateId));
                 N = std::max(N, template_of[i] + 1);
             }
         }

@@ -32,6 +32,11 @@ void quantizeHue(InputArray _bgr, OutputArray _dst, int saturation_threshold, in
         CV_Error_(Error::StsUnsupportedFormat,
                   ("quantizeHue: expected a BGR image of type CV_8UC3, got %s",
                    typeToString(bgr.type()).c_str()));
+    if (saturation_threshold < 0 || saturation_threshold > 255 || value_threshold < 0
+        || value_threshold > 255)
+        CV_Error_(Error::StsOutOfRange, ("quantizeHue: saturation_threshold %d and "
+                                         "value_threshold %d must be in [0, 255] (8-bit HSV)",
+                                         saturation_threshold, value_threshold));
 
     uchar lut[256];
     for (int h = 0; h < 256; ++h)
@@ -41,7 +46,7 @@ void quantizeHue(InputArray _bgr, OutputArray _dst, int saturation_threshold, in
     cvtColor(bgr, hsv, COLOR_BGR2HSV);
     _dst.create(bgr.size(), CV_8UC1);
     Mat dst = _dst.getMat();
-    const int smin = std::max(0, saturation_threshold), vmin = std::max(0, value_threshold);
+    const int smin = saturation_threshold, vmin = value_threshold;
     parallel_for_(Range(0, hsv.rows), [&](const Range& rows) {
         for (int r = rows.start; r < rows.end; ++r)
         {

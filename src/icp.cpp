@@ -367,7 +367,8 @@ bool SceneNormals::compute(int x, int y, Vec3f& n) const
 // The inputs of refineICP checked; returns R0 projected onto the closest rotation (ground-truth
 // rotations of some datasets, LM-O, are orthonormal to a few 1e-3 only).
 static Matx33d checkICPInputs(const std::vector<Point3f>& model_points, const Mat& depth,
-                              const Matx33d& K, const Matx33d& R0, const ICPParams& params)
+                              const Matx33d& K, const Matx33d& R0, const Vec3d& t0,
+                              const ICPParams& params)
 {
     checkParams(params);
     if (depth.empty())
@@ -381,6 +382,15 @@ static Matx33d checkICPInputs(const std::vector<Point3f>& model_points, const Ma
         CV_Error_(Error::StsBadArg,
                   ("refineICP: %d model points, at least min_correspondences = %d are needed",
                    (int)model_points.size(), params.min_correspondences));
+    bool finite = std::isfinite(t0[0]) && std::isfinite(t0[1]) && std::isfinite(t0[2]);
+    for (int i = 0; i < 9; ++i)
+        finite = finite && std::isfinite(R0.val[i]);
+    if (!finite)
+        CV_Error(Error::StsBadArg, "refineICP: R0 and t0 must be finite");
+    for (size_t i = 0; i < model_points.size(); ++i)
+        if (!(std::isfinite(model_points[i].x) && std::isfinite(model_points[i].y)
+              && std::isfinite(model_points[i].z)))
+            CV_Error_(Error::StsBadArg, ("refineICP: model point %d is not finite", (int)i));
     Mat Rm(R0);
     if (!(std::abs(determinant(Rm) - 1.0) < 0.1 && norm(Rm * Rm.t(), Mat::eye(3, 3, CV_64F)) < 0.1))
         CV_Error(Error::StsBadArg, "refineICP: R0 is not a rotation matrix");
@@ -579,7 +589,7 @@ ICPResult refineICP(const std::vector<Point3f>& model_points, InputArray scene_d
                     const Matx33d& K, const Matx33d& R0, const Vec3d& t0, const ICPParams& params)
 {
     Mat depth = scene_depth.getMat();
-    const Matx33d R = checkICPInputs(model_points, depth, K, R0, params);
+    const Matx33d R = checkICPInputs(model_points, depth, K, R0, t0, params);
     const detail::SceneNormals normals(depth, K, params);
     return runICP(model_points, depth, K, R, t0, params, normals);
 }
@@ -590,7 +600,7 @@ ICPResult refineICP(const std::vector<Point3f>& model_points, const Mat& scene_d
                     const Matx33d& K, const Matx33d& R0, const Vec3d& t0, const ICPParams& params,
                     const SceneNormals& normals)
 {
-    const Matx33d R = checkICPInputs(model_points, scene_depth, K, R0, params);
+    const Matx33d R = checkICPInputs(model_points, scene_depth, K, R0, t0, params);
     CV_Assert(normals.madeFor(scene_depth, K, params));
     return runICP(model_points, scene_depth, K, R, t0, params, normals);
 }

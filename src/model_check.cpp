@@ -507,50 +507,47 @@ void readMat(const FileNode& fn, Mat& m, int64 max_elements, const String& where
     fn >> m;
 }
 
-void checkPyramidGeometry(const std::vector<int>& T, int levels)
+void checkPyramidGeometry(const std::vector<int>& T, int levels, const char* who, int code)
 {
     if (levels < 1 || levels > MAX_PYRAMID_LEVELS)
-        CV_Error_(Error::StsParseError, ("forestmod model: pyramid_levels is %d, expected "
-                                         "1..%d", levels, (int)MAX_PYRAMID_LEVELS));
+        CV_Error_(code, ("%s: pyramid_levels is %d, expected 1..%d", who, levels,
+                         (int)MAX_PYRAMID_LEVELS));
     if ((int)T.size() != levels)
-        CV_Error_(Error::StsParseError, ("forestmod model: %d values of T for %d pyramid levels",
-                                         (int)T.size(), levels));
+        CV_Error_(code, ("%s: %d values of T for %d pyramid levels", who, (int)T.size(),
+                         levels));
     for (size_t i = 0; i < T.size(); ++i)
         if (T[i] < 1 || T[i] > MAX_T)
-            CV_Error_(Error::StsParseError, ("forestmod model: T of pyramid level %d is %d, "
-                                             "expected 1..%d", (int)i, T[i], (int)MAX_T));
+            CV_Error_(code, ("%s: T of pyramid level %d is %d, expected 1..%d", who, (int)i,
+                             T[i], (int)MAX_T));
 }
 
-void checkModality(const Ptr<linemod::Modality>& modality, int index)
+void checkModality(const Ptr<linemod::Modality>& modality, int index, const char* who, int code)
 {
-    CV_Assert(!modality.empty());
+    if (modality.empty())
+        CV_Error_(code, ("%s: modality %d is null", who, index));
     const linemod::ColorGradient* g = dynamic_cast<const linemod::ColorGradient*>(modality.get());
     if (g)
     {
         if (!finite(g->weak_threshold) || g->weak_threshold < 0
             || !finite(g->strong_threshold) || g->strong_threshold < 0)
-            CV_Error_(Error::StsParseError, ("forestmod model: modality %d (ColorGradient): "
-                                             "weak_threshold %g / strong_threshold %g must be "
-                                             "finite and >= 0", index, g->weak_threshold,
-                                             g->strong_threshold));
+            CV_Error_(code, ("%s: modality %d (ColorGradient): weak_threshold %g / "
+                             "strong_threshold %g must be finite and >= 0", who, index,
+                             g->weak_threshold, g->strong_threshold));
         if (g->num_features < 1 || g->num_features > (size_t)MAX_TEMPLATE_FEATURES)
-            CV_Error_(Error::StsParseError, ("forestmod model: modality %d (ColorGradient): "
-                                             "num_features must be in 1..%d", index,
-                                             (int)MAX_TEMPLATE_FEATURES));
+            CV_Error_(code, ("%s: modality %d (ColorGradient): num_features must be in 1..%d",
+                             who, index, (int)MAX_TEMPLATE_FEATURES));
     }
     const linemod::DepthNormal* d = dynamic_cast<const linemod::DepthNormal*>(modality.get());
     if (d)
     {
         if (d->distance_threshold < 1 || d->difference_threshold < 1 || d->extract_threshold < 0)
-            CV_Error_(Error::StsParseError, ("forestmod model: modality %d (DepthNormal): "
-                                             "distance_threshold %d and difference_threshold %d "
-                                             "must be positive, extract_threshold %d >= 0",
-                                             index, d->distance_threshold,
-                                             d->difference_threshold, d->extract_threshold));
+            CV_Error_(code, ("%s: modality %d (DepthNormal): distance_threshold %d and "
+                             "difference_threshold %d must be positive, extract_threshold %d "
+                             ">= 0", who, index, d->distance_threshold,
+                             d->difference_threshold, d->extract_threshold));
         if (d->num_features < 1 || d->num_features > (size_t)MAX_TEMPLATE_FEATURES)
-            CV_Error_(Error::StsParseError, ("forestmod model: modality %d (DepthNormal): "
-                                             "num_features must be in 1..%d", index,
-                                             (int)MAX_TEMPLATE_FEATURES));
+            CV_Error_(code, ("%s: modality %d (DepthNormal): num_features must be in 1..%d",
+                             who, index, (int)MAX_TEMPLATE_FEATURES));
     }
 }
 
@@ -654,6 +651,14 @@ void checkTemplatePose(const TemplatePose& p, const Template& t0, const String& 
     if (p.K(2, 0) != 0 || p.K(2, 1) != 0 || p.K(2, 2) != 1)
         CV_Error_(code, ("%s: pose K's last row is (%g, %g, %g), expected (0, 0, 1)",
                          where.c_str(), p.K(2, 0), p.K(2, 1), p.K(2, 2)));
+    if (p.K(1, 0) != 0)
+        CV_Error_(code, ("%s: pose K(1, 0) is %g, expected 0 (a pinhole matrix [fx s cx; 0 fy "
+                         "cy; 0 0 1])", where.c_str(), p.K(1, 0)));
+    // a rotation, as the Renderer takes them (stored rotations deviate by a few 1e-3)
+    const double r_err = norm(p.R * p.R.t() - Matx33d::eye(), NORM_INF), det = determinant(p.R);
+    if (!(r_err <= 1e-2) || !(det > 0))
+        CV_Error_(code, ("%s: pose R is not a rotation (|R R^T - I| = %g, det = %g)",
+                         where.c_str(), r_err, det));
     const Vec3d c = p.K * p.t; // the object centre's projection, used by the depth modality
     if (!(std::abs(c[0]) <= 1e6 * c[2]) || !(std::abs(c[1]) <= 1e6 * c[2]))
         CV_Error_(code, ("%s: the object centre projects to (%g, %g), beyond 1e6 pixels",

@@ -73,12 +73,16 @@ OpenCV's reader allocates rows x cols first, whatever the data holds. An absent 
 empty matrix. */
 void readMat(const FileNode& fn, Mat& m, int64 max_elements, const String& where);
 
-/** pyramid_levels in [1, MAX_PYRAMID_LEVELS], one T per level, each in [1, MAX_T]. */
-void checkPyramidGeometry(const std::vector<int>& T_at_level, int pyramid_levels);
+/** pyramid_levels in [1, MAX_PYRAMID_LEVELS], one T per level, each in [1, MAX_T]. `who` and
+`code`: the error's prefix and code (a model file's by default; the constructor passes its own). */
+void checkPyramidGeometry(const std::vector<int>& T_at_level, int pyramid_levels,
+                          const char* who = "forestmod model", int code = Error::StsParseError);
 
-/** The parameters of a modality read from a file (ColorGradient, DepthNormal; ColorHue checks
-its own): finite thresholds, num_features in [1, MAX_TEMPLATE_FEATURES]. */
-void checkModality(const Ptr<linemod::Modality>& modality, int index);
+/** The parameters of a modality read from a file or given to the constructor (ColorGradient,
+DepthNormal; ColorHue checks its own): finite thresholds, num_features in
+[1, MAX_TEMPLATE_FEATURES]. `who`, `code`: as for checkPyramidGeometry(). */
+void checkModality(const Ptr<linemod::Modality>& modality, int index,
+                   const char* who = "forestmod model", int code = Error::StsParseError);
 
 /** The structure of one template's node before linemod::Template::read reads it: integer
 width, height and pyramid_level, and features a sequence of [x, y, label] integer triples (a

@@ -27,8 +27,22 @@ void checkIntrinsics(const Matx33d& K, const char* func, const char* name)
                   ("%s: %s is not a pinhole intrinsic matrix [fx s cx; 0 fy cy; 0 0 1] of finite "
                    "entries with fx, fy > 0", func, name));
 }
+
+void checkPose(const Matx33d& R, const Vec3d& t, const char* func, const char* name, int code)
+{
+    bool finite = std::isfinite(t[0]) && std::isfinite(t[1]) && std::isfinite(t[2]);
+    for (int i = 0; i < 9; ++i)
+        finite = finite && std::isfinite(R.val[i]);
+    if (!finite)
+        CV_Error_(code, ("%s: %s has entries that are not finite", func, name));
+    const double err = norm(R * R.t() - Matx33d::eye(), NORM_INF), det = determinant(R);
+    if (!(err <= 1e-2) || !(det > 0))
+        CV_Error_(code, ("%s: %s is not a rotation (|R R^T - I| = %g, det = %g)", func, name, err,
+                         det));
+}
 } // namespace detail
 using detail::checkIntrinsics;
+using detail::checkPose;
 
 static Vec3d pixelRay(const Matx33d& K, const Point2d& px)
 {
@@ -42,6 +56,7 @@ void initialPose(const Matx33d& R_t, const Vec3d& t_t, const Matx33d& K_t,
 {
     checkIntrinsics(K_t, "initialPose", "K_t");
     checkIntrinsics(K_s, "initialPose", "K_s");
+    checkPose(R_t, t_t, "initialPose", "the template's pose (R_t, t_t)");
     if (!(t_t[2] > 0))
         CV_Error(Error::StsBadArg, "initialPose: the template's object centre must be in front of "
                                    "its camera (t_t[2] > 0)");

@@ -63,9 +63,15 @@ static void checkEdgeParams(const EdgeRefineParams& p, const char* func)
     if (!(p.canny_low >= 0 && p.canny_high >= p.canny_low))
         CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams needs 0 <= canny_low <= canny_high",
                                          func));
-    if (!(p.max_distance > 1))
-        CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams::max_distance must be > 1 px",
-                                         func));
+    if (!(p.max_distance > 1) || !std::isfinite(p.max_distance))
+        CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams::max_distance must be finite and "
+                                         "> 1 px, got %g", func, p.max_distance));
+    // the grid search tries (2 search_steps + 1)^3 rotations
+    if (!(p.search_angle >= 0 && p.search_angle <= 180) || p.search_steps < 0
+        || p.search_steps > 20)
+        CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams needs search_angle in [0, 180] "
+                                         "degrees and search_steps in [0, 20], got %g and %d",
+                                         func, p.search_angle, p.search_steps));
     if (p.passes < 1 || p.iterations < 1 || p.max_points < 6)
         CV_Error_(Error::StsOutOfRange, ("%s: EdgeRefineParams needs passes >= 1, iterations >= "
                                          "1 and max_points >= 6", func));

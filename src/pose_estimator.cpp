@@ -124,6 +124,10 @@ static void checkPoseInputs(const Mat& depth, const Matx33d& K, const PoseParams
     CV_CheckGE(params.rgb_hypotheses, 1, "PoseParams: rgb_hypotheses must be >= 1");
     CV_CheckGE(params.rgb_keep, 1, "PoseParams: rgb_keep must be >= 1");
     CV_CheckGT(params.depth_check_tolerance, 0.0, "PoseParams: depth_check_tolerance must be > 0");
+    if (!(params.min_depth_agreement >= 0 && params.min_depth_agreement <= 1))
+        CV_Error_(Error::StsOutOfRange, ("PoseParams: min_depth_agreement is %g, it must be in "
+                                         "[0, 1] (a share of the drawn pixels)",
+                                         params.min_depth_agreement));
     if (!depth.empty() && depth.type() != CV_16UC1)
         CV_Error_(Error::StsUnsupportedFormat, ("forestmod::Detector::estimatePoses: depth must "
                                                 "be CV_16UC1 in mm, got %s",

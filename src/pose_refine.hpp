@@ -24,6 +24,12 @@ in the message, is a pinhole intrinsic matrix [fx s cx; 0 fy cy; 0 0 1] of finit
 fx, fy > 0. */
 void checkIntrinsics(const Matx33d& K, const char* func, const char* name);
 
+/** A pose (R, t) with finite entries and R a rotation (|R R^T - I| <= 1e-2, det > 0: rotations
+stored with few digits, LM-O's ground truth, deviate by a few 1e-3); raises `code` naming
+`func` and `name`. */
+void checkPose(const Matx33d& R, const Vec3d& t, const char* func, const char* name,
+               int code = Error::StsBadArg);
+
 /** Throws a cv::Exception (its message starting with `who`) unless `maps` hold one CV_32FC1
 distance map per orientation bin, each of size `image`: computeEdgeMaps() of that image with
 `orientations` bins. */

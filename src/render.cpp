@@ -220,7 +220,12 @@ void ViewSampler::lookAt(const Point3d& center, const Vec3d& direction, double r
 {
     const double len = norm(direction);
     CV_Check(len, len > 0 && std::isfinite(len), "ViewSampler::lookAt: direction must be non-zero");
-    CV_Check(radius, radius > 0, "ViewSampler::lookAt: radius must be positive");
+    CV_Check(radius, radius > 0 && std::isfinite(radius),
+             "ViewSampler::lookAt: radius must be positive and finite");
+    CV_Check(inplane_deg, std::isfinite(inplane_deg),
+             "ViewSampler::lookAt: inplane_deg must be finite");
+    if (!(std::isfinite(center.x) && std::isfinite(center.y) && std::isfinite(center.z)))
+        CV_Error(Error::StsBadArg, "ViewSampler::lookAt: center must be finite");
     const Vec3d d = direction * (1.0 / len);
     const double el = std::asin(std::max(-1.0, std::min(1.0, d[2])));
     // azimuth: at the poles take 0 (x axis), a fixed and documented choice

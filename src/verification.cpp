@@ -542,6 +542,8 @@ void verifyHypotheses(PoseEstimator& poses, const Mat& color, const Mat& depth, 
         const DrawnMesh* mesh = poses.drawnMesh(m.class_id);
         if (!mesh)
             continue;
+        checkPose(m.R, m.t, "forestmod::Detector::verify",
+                  format("the pose of match %d (has_pose set)", (int)i).c_str());
         ++per_class[m.class_id];
         todo.push_back(i);
         meshes.push_back(mesh);

@@ -658,8 +658,11 @@ TEST(Forestmod_Detector, model_file_roundtrip_and_corrupt_files)
     {
         Mat img = Mat::zeros(size, CV_8UC3), mask;
         drawObject(img, &mask, Point2f(320, 240), -30.f + 6.f * i, 1.f);
-        ASSERT_GE(det.addTemplate(std::vector<Mat>(2, img), "L", mask, Matx33d::eye() * (1 + i),
-                                  Vec3d(1, 2, 500 + i), Matx33d(500, 0, 320, 0, 500, 240, 0, 0, 1)),
+        // a rotation of its own per template, about the optical axis (i x 10 degrees)
+        const double a = i * 10.0 * CV_PI / 180;
+        const Matx33d R(std::cos(a), -std::sin(a), 0, std::sin(a), std::cos(a), 0, 0, 0, 1);
+        ASSERT_GE(det.addTemplate(std::vector<Mat>(2, img), "L", mask, R, Vec3d(1, 2, 500 + i),
+                                  Matx33d(500, 0, 320, 0, 500, 240, 0, 0, 1)),
                   0);
     }
     det.train();
@@ -700,7 +703,8 @@ TEST(Forestmod_Detector, model_file_roundtrip_and_corrupt_files)
     const TemplatePose p = back.getTemplatePose("L", 7);
     EXPECT_TRUE(p.valid);
     EXPECT_EQ(507, p.t[2]);
-    EXPECT_EQ(8, p.R(0, 0));
+    EXPECT_EQ(std::cos(70.0 * CV_PI / 180), p.R(0, 0)); // template 7's rotation, to the bit
+    EXPECT_EQ(std::sin(70.0 * CV_PI / 180), p.R(1, 0));
     RNG rng(4);
     Mat scene = clutter(size, rng);
     drawObject(scene, 0, Point2f(300, 250), 0.f, 1.f);

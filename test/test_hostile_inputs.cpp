@@ -918,4 +918,214 @@ TEST(Forestmod_HostileInputs, camera_matrices_and_sampler_sizes)
                  "sampler size");
 }
 
+
+// a detector refuses at construction what load() refuses, so that every detector made can be
+// saved and loaded again (T beyond 64 overflowed the pyramid's size check and ended in
+// std::bad_alloc in match()); templates need a class id, a rotation and a pinhole K; a sampler
+// without a pose raises and leaves no mesh behind
+TEST(Forestmod_HostileInputs, detectors_and_templates_refuse_what_load_refuses)
+{
+    const std::vector<Ptr<linemod::Modality> > mods(1, makePtr<linemod::ColorGradient>());
+    expectRaises([&] { cv::forestmod::Detector d(mods, std::vector<int>{ 5, 1 << 30 }); },
+                 Error::StsBadArg, "T of pyramid level 1 is 1073741824, expected 1..64",
+                 "T 2^30");
+    expectRaises([&] { cv::forestmod::Detector d(mods, std::vector<int>(9, 4)); },
+                 Error::StsBadArg, "pyramid_levels is 9, expected 1..8", "9 levels");
+    expectRaises([&] { cv::forestmod::Detector d(std::vector<Ptr<linemod::Modality> >(
+                                                     9, makePtr<linemod::ColorGradient>()),
+                                                 std::vector<int>{ 5, 8 }); },
+                 Error::StsBadArg, "9 modalities, at most 8", "9 modalities");
+    expectRaises([&] { cv::forestmod::Detector d(std::vector<Ptr<linemod::Modality> >(
+                           1, makePtr<linemod::ColorGradient>(
+                                  std::numeric_limits<float>::quiet_NaN(), 63, 55.f)),
+                                                 std::vector<int>{ 5, 8 }); },
+                 Error::StsBadArg, "weak_threshold nan", "weak_threshold NaN");
+    const std::string file = cv::tempfile(".yml");
+    expectRaises([&] { cv::forestmod::Detector().save(file); }, Error::StsError,
+                 "has no modalities", "save of a default-constructed detector");
+
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    Mat color, mask;
+    shapeView(1, color, mask);
+    const Matx33d K(500, 0, 80, 0, 500, 80, 0, 0, 1);
+    const std::vector<Mat> src(2, color);
+    expectRaises([&] { det->addTemplate(src, "", mask); }, Error::StsBadArg,
+                 "class_id must not be empty", "addTemplate, empty class id");
+    expectRaises([&] { det->addTemplate(src, "shape", mask, Matx33d::zeros(), Vec3d(0, 0, 700),
+                                        K); },
+                 Error::StsBadArg, "pose R is not a rotation", "addTemplate, R = 0");
+    expectRaises([&] { det->addTemplate(src, "shape", mask, Matx33d::diag(Vec3d(100, 1, 1)),
+                                        Vec3d(0, 0, 700), K); },
+                 Error::StsBadArg, "pose R is not a rotation", "addTemplate, R = diag(100, 1, 1)");
+    Matx33d K10 = K;
+    K10(1, 0) = 3;
+    expectRaises([&] { det->addTemplate(src, "shape", mask, Matx33d::eye(), Vec3d(0, 0, 700),
+                                        K10); },
+                 Error::StsBadArg, "pose K(1, 0) is 3", "addTemplate, K(1, 0) = 3");
+    ASSERT_GE(det->addTemplate(src, "shape", mask, Matx33d::eye(), Vec3d(0, 0, 700), K), 0);
+    expectRaises([&] { det->addSyntheticTemplate(det->getTemplates("shape", 0), ""); },
+                 Error::StsBadArg, "class_id must not be empty", "addSyntheticTemplate, no id");
+    EXPECT_EQ(1, det->numTemplates());
+
+    cv::forestmod::ViewSampler::Params vp = cv::forestmod::ViewSampler::Params::coarse();
+    vp.min_elevation = 85; // no view of the subdivided icosahedron between 85 and 86 degrees
+    vp.max_elevation = 86;
+    const cv::forestmod::ViewSampler empty(vp);
+    ASSERT_EQ(0, empty.size());
+    expectRaises([&] { det->addTemplates(closedCube(30), "cube", empty, K, Size(160, 160)); },
+                 Error::StsBadArg, "the sampler gives no pose", "addTemplates, no pose");
+    EXPECT_FALSE(det->hasMesh("cube"));
+    EXPECT_EQ(1, det->numTemplates());
+}
+
+// non-finite poses and parameters raise instead of giving NaN poses, ranked hypotheses, empty
+// depth images or unparsable result files; template ids that overflowed the forest's tables
+// (a write out of bounds) are refused
+TEST(Forestmod_HostileInputs, non_finite_poses_and_parameters_raise)
+{
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const Matx33d K(500, 0, 80, 0, 500, 80, 0, 0, 1);
+    Matx33d R, R_nan = Matx33d::eye();
+    R_nan(0, 1) = nan;
+    Vec3d t;
+    expectRaises([&] { cv::forestmod::initialPose(R_nan, Vec3d(0, 0, 700), K, Point2d(80, 80), K,
+                                                  Point2d(90, 90), 0, R, t); },
+                 Error::StsBadArg, "initialPose: the template's pose (R_t, t_t) has entries",
+                 "initialPose, R_t NaN");
+    expectRaises([&] { cv::forestmod::initialPose(Matx33d::eye(), Vec3d(nan, 0, 700), K,
+                                                  Point2d(80, 80), K, Point2d(90, 90), 0, R,
+                                                  t); },
+                 Error::StsBadArg, "not finite", "initialPose, t_t NaN");
+    expectRaises([&] { cv::forestmod::initialPose(Matx33d::zeros(), Vec3d(0, 0, 700), K,
+                                                  Point2d(80, 80), K, Point2d(90, 90), 0, R,
+                                                  t); },
+                 Error::StsBadArg, "is not a rotation", "initialPose, R_t = 0");
+
+    const Mat depth(160, 160, CV_16UC1, Scalar(800));
+    std::vector<Point3f> pts;
+    for (int i = 0; i < 100; ++i)
+        pts.push_back(Point3f((float)(i % 10) * 3, (float)(i / 10) * 3, 0.f));
+    expectRaises([&] { cv::forestmod::refineICP(pts, depth, K, Matx33d::eye(),
+                                                Vec3d(nan, 0, 800)); },
+                 Error::StsBadArg, "R0 and t0 must be finite", "refineICP, t0 NaN");
+    std::vector<Point3f> bad_pts = pts;
+    bad_pts[3].y = std::numeric_limits<float>::quiet_NaN();
+    expectRaises([&] { cv::forestmod::refineICP(bad_pts, depth, K, Matx33d::eye(),
+                                                Vec3d(0, 0, 800)); },
+                 Error::StsBadArg, "model point 3 is not finite", "refineICP, point NaN");
+
+    Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
+    det->setMesh("cube", closedCube(30));
+    cv::forestmod::PoseMatch m;
+    m.class_id = "cube";
+    m.has_pose = true;
+    m.R = R_nan;
+    m.t = Vec3d(0, 0, 700);
+    std::vector<cv::forestmod::PoseMatch> hyp(1, m);
+    expectRaises([&] { det->verify(shapeScene(), noArray(), K, hyp); }, Error::StsBadArg,
+                 "the pose of match 0 (has_pose set) has entries that are not finite",
+                 "verify, R NaN");
+
+    cv::forestmod::PoseParams pp;
+    pp.min_depth_agreement = nan;
+    std::vector<cv::forestmod::PoseMatch> none;
+    expectRaises([&] { det->estimatePoses(depth, K, none, pp); }, Error::StsOutOfRange,
+                 "min_depth_agreement is nan", "PoseParams::min_depth_agreement NaN");
+    cv::forestmod::EdgeRefineParams ep;
+    cv::forestmod::EdgeMaps maps;
+    ep.search_steps = 100000;
+    expectRaises([&] { cv::forestmod::computeEdgeMaps(shapeScene(), maps, ep); },
+                 Error::StsOutOfRange, "search_steps in [0, 20]", "search_steps 100000");
+    ep = cv::forestmod::EdgeRefineParams();
+    ep.max_distance = std::numeric_limits<double>::infinity();
+    expectRaises([&] { cv::forestmod::computeEdgeMaps(shapeScene(), maps, ep); },
+                 Error::StsOutOfRange, "max_distance must be finite", "max_distance inf");
+
+    Matx33d Rv;
+    Vec3d tv;
+    expectRaises([&] { cv::forestmod::ViewSampler::lookAt(Point3d(nan, 0, 0), Vec3d(0, 0, 1),
+                                                          700, 0, Rv, tv); },
+                 Error::StsBadArg, "center must be finite", "lookAt, centre NaN");
+    expectRaises([&] { cv::forestmod::ViewSampler::lookAt(Point3d(0, 0, 0), Vec3d(0, 0, 1),
+                                                          700, nan, Rv, tv); },
+                 Error::StsError, "inplane_deg must be finite", "lookAt, in-plane NaN");
+    expectRaises([&] { cv::forestmod::ViewSampler::lookAt(
+                           Point3d(0, 0, 0), Vec3d(0, 0, 1),
+                           std::numeric_limits<double>::infinity(), 0, Rv, tv); },
+                 Error::StsError, "radius must be positive and finite", "lookAt, radius inf");
+
+    Mat q;
+    expectRaises([&] { cv::forestmod::quantizeHue(shapeScene(), q, -5, 300); },
+                 Error::StsOutOfRange, "must be in [0, 255]", "quantizeHue thresholds");
+
+    Ptr<cv::forestmod::TemplateForest> forest = cv::forestmod::TemplateForest::create();
+    Mat desc(2, 8, CV_8UC1, Scalar(1)), fg(2, 8, CV_8UC1, Scalar(1));
+    desc.at<uchar>(1, 0) = 2;
+    const Mat ids = (Mat_<int>(2, 1) << 0, std::numeric_limits<int>::max());
+    expectRaises([&] { forest->train(desc, fg, ids); }, Error::StsBadArg,
+                 "template_ids[1] = 2147483647 is outside", "forest ids INT_MAX");
+
+    TempDir dir;
+    const std::string csv = dir.path + "/results.csv";
+    {
+        cv::forestmod::BopResultWriter w(csv);
+        expectRaises([&] { w.write(2, 3, 1, nan, Matx33d::eye(), Vec3d(0, 0, 700)); },
+                     Error::StsBadArg, "must be finite", "BopResultWriter, score NaN");
+        w.write(2, 3, 1, 0.5, Matx33d::eye(), Vec3d(0, 0, 700));
+    }
+    const std::string written = slurpFile(csv);
+    EXPECT_EQ(std::string::npos, written.find("nan")) << written;
+    EXPECT_NE(std::string::npos, written.find("2,3,1,0.5,")) << written;
+
+    cv::forestmod::Frame frame;
+    frame.depth_path = dir.path + "/depth.png";
+    ASSERT_TRUE(imwrite(frame.depth_path, depth));
+    frame.depth_scale = nan;
+    expectRaises([&] { frame.depth(); }, Error::StsBadArg, "depth_scale is nan",
+                 "Frame::depth, scale NaN");
+    frame.depth_scale = -1;
+    expectRaises([&] { frame.depth(); }, Error::StsBadArg, "depth_scale is -1",
+                 "Frame::depth, scale -1");
+    frame.depth_scale = 0.5;
+    EXPECT_EQ(400, frame.depth().at<ushort>(0, 0));
+}
+
+// SceneSynthesizer's parameters: NaN noise gave a depth image without a pixel, a dropout of 3 an
+// empty one and a jitter of 5 an object behind the camera, all without an error
+TEST(Forestmod_HostileInputs, scene_synthesizer_parameters_are_checked)
+{
+    Ptr<cv::forestmod::Renderer> r = cv::forestmod::Renderer::create(Size(64, 48));
+    const Matx33d K(60, 0, 32, 0, 60, 24, 0, 0, 1);
+    struct Case
+    {
+        const char* name;
+        double cv::forestmod::SyntheticSceneParams::*field;
+        double value;
+        const char* needle;
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const Case cases[] = {
+        { "depth_noise NaN", &cv::forestmod::SyntheticSceneParams::depth_noise, nan,
+          "depth_noise is nan" },
+        { "depth_dropout 3", &cv::forestmod::SyntheticSceneParams::depth_dropout, 3,
+          "depth_dropout is 3" },
+        { "distance_jitter 5", &cv::forestmod::SyntheticSceneParams::distance_jitter, 5,
+          "distance_jitter is 5" },
+        { "max_perturbation_deg -1", &cv::forestmod::SyntheticSceneParams::max_perturbation_deg,
+          -1, "max_perturbation_deg is -1" },
+        { "plane_offset inf", &cv::forestmod::SyntheticSceneParams::plane_offset,
+          std::numeric_limits<double>::infinity(), "plane_offset is inf" },
+        { "color_noise NaN", &cv::forestmod::SyntheticSceneParams::color_noise, nan,
+          "color_noise is nan" },
+    };
+    for (size_t i = 0; i < sizeof(cases) / sizeof(cases[0]); ++i)
+    {
+        cv::forestmod::SyntheticSceneParams p;
+        p.*(cases[i].field) = cases[i].value;
+        expectRaises([&] { cv::forestmod::SceneSynthesizer s(r, K, p); }, Error::StsOutOfRange,
+                     cases[i].needle, cases[i].name);
+    }
+    EXPECT_NO_THROW(cv::forestmod::SceneSynthesizer(r, K, cv::forestmod::SyntheticSceneParams()));
+}
+
 }} // namespace

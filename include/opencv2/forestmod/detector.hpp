@@ -394,6 +394,9 @@ class CV_EXPORTS_W Detector : public cv::linemod::Detector
 {
 public:
     CV_WRAP Detector();
+    /** What load() accepts, or StsBadArg naming the problem: 1..8 modalities (ColorGradient and
+    DepthNormal with finite thresholds and 1..8192 features), 1..8 pyramid levels, each T in
+    1..64; so every detector made can be saved and loaded again. */
     CV_WRAP Detector(const std::vector<Ptr<cv::linemod::Modality> >& modalities,
                      const std::vector<int>& T_pyramid,
                      const DetectorParams& params = DetectorParams());
