@@ -48,25 +48,29 @@ SceneSynthesizer::SceneSynthesizer(const Ptr<Renderer>& renderer, const Matx33d&
     CV_CheckGE(params.clutter_objects, 0, "SceneSynthesizer: clutter_objects must be >= 0");
     CV_CheckGE(params.margin, 0.0, "SceneSynthesizer: margin must be in [0, 0.5)");
     CV_CheckLT(params.margin, 0.5, "SceneSynthesizer: margin must be in [0, 0.5)");
-    // NaN fails every comparison below
-    if (!(params.max_perturbation_deg >= 0 && params.max_perturbation_deg <= 180))
-        CV_Error_(Error::StsOutOfRange, ("SceneSynthesizer: max_perturbation_deg is %g, it must "
-                                         "be in [0, 180]", params.max_perturbation_deg));
-    if (!(params.distance_jitter >= 0 && params.distance_jitter < 1))
-        CV_Error_(Error::StsOutOfRange, ("SceneSynthesizer: distance_jitter is %g, it must be in "
-                                         "[0, 1)", params.distance_jitter));
-    if (!(params.depth_noise >= 0 && params.depth_noise < 1e3))
-        CV_Error_(Error::StsOutOfRange, ("SceneSynthesizer: depth_noise is %g, it must be finite "
-                                         "and >= 0", params.depth_noise));
-    if (!(params.depth_dropout >= 0 && params.depth_dropout < 1))
-        CV_Error_(Error::StsOutOfRange, ("SceneSynthesizer: depth_dropout is %g, it must be in "
-                                         "[0, 1)", params.depth_dropout));
-    if (!(params.plane_offset >= 0 && params.plane_offset < 1e6))
-        CV_Error_(Error::StsOutOfRange, ("SceneSynthesizer: plane_offset is %g mm, it must be "
-                                         "finite and >= 0", params.plane_offset));
-    if (!(params.color_noise >= 0 && params.color_noise < 1e3))
-        CV_Error_(Error::StsOutOfRange, ("SceneSynthesizer: color_noise is %g, it must be finite "
-                                         "and >= 0", params.color_noise));
+    // each in [lo, hi) (hi included for max_perturbation_deg); NaN fails every comparison
+    struct Range
+    {
+        const char* name;
+        double value, lo, hi;
+        bool hi_included;
+    };
+    const Range ranges[] = {
+        { "max_perturbation_deg", params.max_perturbation_deg, 0, 180, true },
+        { "distance_jitter", params.distance_jitter, 0, 1, false },
+        { "depth_noise", params.depth_noise, 0, 1e3, false },
+        { "depth_dropout", params.depth_dropout, 0, 1, false },
+        { "plane_offset", params.plane_offset, 0, 1e6, false },
+        { "color_noise", params.color_noise, 0, 1e3, false },
+    };
+    for (size_t i = 0; i < sizeof(ranges) / sizeof(ranges[0]); ++i)
+    {
+        const Range& r = ranges[i];
+        if (!(r.value >= r.lo && (r.value < r.hi || (r.hi_included && r.value == r.hi))))
+            CV_Error_(Error::StsOutOfRange, ("SceneSynthesizer: %s is %g, it must be in [%g, %g%s",
+                                             r.name, r.value, r.lo, r.hi,
+                                             r.hi_included ? "]" : ")"));
+    }
 }
 
 int SceneSynthesizer::addObject(const Mesh& mesh)
