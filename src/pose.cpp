@@ -113,8 +113,9 @@ double sceneDepthFromFeatures(InputArray scene_depth, const std::vector<Point>& 
         CV_Error_(Error::StsBadSize,
                   ("sceneDepthFromFeatures: %d positions but %d template depths",
                    (int)scene_positions.size(), (int)template_depths.size()));
-    if (!(template_center_depth > 0))
-        CV_Error(Error::StsBadArg, "sceneDepthFromFeatures: template_center_depth must be > 0");
+    if (!(template_center_depth > 0) || !std::isfinite(template_center_depth))
+        CV_Error(Error::StsBadArg, "sceneDepthFromFeatures: template_center_depth must be finite "
+                                   "and > 0");
     std::vector<double> z;
     z.reserve(scene_positions.size());
     const Rect img(0, 0, d.cols, d.rows);
@@ -144,6 +145,7 @@ std::vector<Point3f> modelPointsFromDepth(InputArray depth, const Matx33d& K, co
     Mat d = getDepth16(depth, "modelPointsFromDepth", "depth");
     checkIntrinsics(K, "modelPointsFromDepth", "K");
     CV_CheckGE(step, 1, "modelPointsFromDepth: step must be >= 1");
+    checkPose(R, t, "modelPointsFromDepth", "the pose (R, t)");
     const Matx33d Kinv = K.inv(), Rt = R.t();
     std::vector<Point3f> pts;
     for (int y = 0; y < d.rows; y += step)

@@ -369,6 +369,10 @@ void RendererImpl::checkDraw(const std::vector<int>& handles, const std::vector<
         || !std::isfinite(cy))
         CV_Error_(Error::StsBadArg, ("%s: K needs positive finite fx, fy and finite cx, cy (got "
                                      "%g, %g, %g, %g)", fn, fx, fy, cx, cy));
+    if (K(0, 1) != 0 || K(1, 0) != 0 || K(2, 0) != 0 || K(2, 1) != 0 || K(2, 2) != 1)
+        CV_Error_(Error::StsBadArg, ("%s: K must be [fx 0 cx; 0 fy cy; 0 0 1] (the renderer draws "
+                                     "without skew), got K(0, 1) %g, K(1, 0) %g and last row (%g, "
+                                     "%g, %g)", fn, K(0, 1), K(1, 0), K(2, 0), K(2, 1), K(2, 2)));
     for (size_t i = 0; i < handles.size(); ++i)
     {
         if (handles[i] < 0 || handles[i] >= (int)meshes_.size())

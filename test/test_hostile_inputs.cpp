@@ -1008,6 +1008,15 @@ TEST(Forestmod_HostileInputs, non_finite_poses_and_parameters_raise)
     expectRaises([&] { cv::forestmod::refineICP(pts, depth, K, Matx33d::eye(),
                                                 Vec3d(nan, 0, 800)); },
                  Error::StsBadArg, "R0 and t0 must be finite", "refineICP, t0 NaN");
+    expectRaises([&] { cv::forestmod::modelPointsFromDepth(depth, K, R_nan, Vec3d(0, 0, 0)); },
+                 Error::StsBadArg, "modelPointsFromDepth: the pose (R, t) has entries",
+                 "modelPointsFromDepth, R NaN");
+    expectRaises([&] { cv::forestmod::sceneDepthFromFeatures(
+                           depth, std::vector<Point>(5, Point(10, 10)),
+                           std::vector<float>(5, 790.f),
+                           std::numeric_limits<double>::infinity()); },
+                 Error::StsBadArg, "template_center_depth must be finite",
+                 "sceneDepthFromFeatures, centre depth inf");
     std::vector<Point3f> bad_pts = pts;
     bad_pts[3].y = std::numeric_limits<float>::quiet_NaN();
     expectRaises([&] { cv::forestmod::refineICP(bad_pts, depth, K, Matx33d::eye(),
@@ -1126,6 +1135,20 @@ TEST(Forestmod_HostileInputs, scene_synthesizer_parameters_are_checked)
                      cases[i].needle, cases[i].name);
     }
     EXPECT_NO_THROW(cv::forestmod::SceneSynthesizer(r, K, cv::forestmod::SyntheticSceneParams()));
+    // the renderer draws without skew: a K with one (or another last row) was drawn as if it had
+    // none
+    const int h = r->addMesh(closedCube(30));
+    Mat color;
+    for (int entry = 0; entry < 3; ++entry)
+    {
+        Matx33d bad = K;
+        bad.val[entry == 0 ? 1 : entry == 1 ? 3 : 8] = entry == 2 ? 0 : 5;
+        expectRaises([&] { r->render(h, Matx33d::eye(), Vec3d(0, 0, 300), bad, color); },
+                     Error::StsBadArg, "the renderer draws without skew",
+                     "Renderer, K entry " + std::to_string(entry));
+    }
+    EXPECT_NO_THROW(r->render(h, Matx33d::eye(), Vec3d(0, 0, 300), K, color));
+    EXPECT_GT(countNonZero(color.reshape(1)), 0);
 }
 
 }} // namespace

@@ -124,7 +124,7 @@ public:
     /** @brief Renders one mesh.
     @param handle  from addMesh().
     @param R, t    model -> camera (BOP `cam_R_m2c`, `cam_t_m2c`, mm).
-    @param K       camera matrix (fx, fy, cx, cy).
+    @param K       camera matrix [fx 0 cx; 0 fy cy; 0 0 1] (no skew; others raise).
     @param color   CV_8UC3 BGR (skipped when noArray()).
     @param depth   CV_16UC1 mm, 0 = background (skipped when noArray()).
     @param mask    CV_8UC1, 255 on the object (skipped when noArray()).
