@@ -33,8 +33,14 @@ static Point3f bboxCorner(const std::vector<Point3f>& vertices, const char* who,
     if (vertices.empty())
         CV_Error_(Error::StsBadArg, ("%s: the mesh has no vertices", who));
     Point3f m = vertices[0];
-    for (size_t i = 1; i < vertices.size(); ++i)
-        m = Point3f(pick(m.x, vertices[i].x), pick(m.y, vertices[i].y), pick(m.z, vertices[i].z));
+    for (size_t i = 0; i < vertices.size(); ++i)
+    {
+        const Point3f& v = vertices[i];
+        // a NaN would drop out of min / max unseen (the box, centre and diameter of the rest)
+        if (!(std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z)))
+            CV_Error_(Error::StsBadArg, ("%s: vertex %d is not finite", who, (int)i));
+        m = Point3f(pick(m.x, v.x), pick(m.y, v.y), pick(m.z, v.z));
+    }
     return m;
 }
 

@@ -1023,6 +1023,13 @@ TEST(Forestmod_HostileInputs, non_finite_poses_and_parameters_raise)
                                                 Vec3d(0, 0, 800)); },
                  Error::StsBadArg, "model point 3 is not finite", "refineICP, point NaN");
 
+    Mesh nan_cube = closedCube(30);
+    nan_cube.vertices[5].y = std::numeric_limits<float>::quiet_NaN();
+    expectRaises([&] { nan_cube.diameter(); }, Error::StsBadArg, "vertex 5 is not finite",
+                 "Mesh::diameter, NaN vertex");
+    expectRaises([&] { nan_cube.center(); }, Error::StsBadArg, "vertex 5 is not finite",
+                 "Mesh::center, NaN vertex");
+
     Ptr<cv::forestmod::Detector> det = getDefaultForestLINE();
     det->setMesh("cube", closedCube(30));
     cv::forestmod::PoseMatch m;
