@@ -257,12 +257,22 @@ int main(int argc, char** argv)
         }
         else
         {
-            color = cv::imread(color_path, cv::IMREAD_COLOR);
-            if (color.empty())
+            const cv::Mat raw = cv::imread(color_path, cv::IMREAD_UNCHANGED);
+            if (raw.empty())
             {
                 std::cerr << "forestmod_detect: cannot read an image from " << color_path << "\n";
                 return 1;
             }
+            if (raw.depth() != CV_8U)
+            {
+                // IMREAD_COLOR would turn a 16-bit depth image into 8-bit grey silently
+                std::cerr << "forestmod_detect: " << color_path << " is "
+                          << cv::typeToString(raw.type())
+                          << "; --color takes an 8-bit colour image (a depth image goes to "
+                             "--depth)\n";
+                return 1;
+            }
+            color = cv::imread(color_path, cv::IMREAD_COLOR);
             if (!depth_path.empty())
             {
                 depth = cv::imread(depth_path, cv::IMREAD_ANYDEPTH);

@@ -98,4 +98,27 @@ TEST(Forestmod_Samples, detect_finds_the_shipped_ape)
     std::remove(model.c_str());
 }
 
+// a 16-bit depth image given as --color is refused (imread's IMREAD_COLOR turned it into 8-bit
+// grey, on which the detector found nothing without saying why)
+TEST(Forestmod_Samples, detect_refuses_a_depth_image_as_colour)
+{
+    const std::string exe = testBinaryDir() + "/forestmod_detect";
+    if (!utils::fs::exists(exe))
+        throw SkipTestException("forestmod_detect is not built (BUILD_EXAMPLES=OFF)");
+    const std::string depth = cv::tempfile(".png"), model = cv::tempfile(".yml"),
+                      out = cv::tempfile(".txt");
+    ASSERT_TRUE(imwrite(depth, Mat(48, 64, CV_16UC1, Scalar(800))));
+    std::ofstream(model.c_str()) << "%YAML:1.0\n"; // exists; refused before it is read
+    const std::string cmd = "'" + exe + "' --model='" + model + "' --color='" + depth + "' > '"
+        + out + "' 2>&1";
+    const int rc = std::system(cmd.c_str());
+    const std::string text = slurp(out);
+    std::remove(out.c_str());
+    std::remove(model.c_str());
+    std::remove(depth.c_str());
+    EXPECT_NE(0, rc) << text;
+    EXPECT_NE(std::string::npos, text.find("is CV_16UC1; --color takes an 8-bit colour image"))
+        << text;
+}
+
 }} // namespace
