@@ -6,6 +6,7 @@
 
 #include "precomp.hpp"
 #include "model_check.hpp"
+#include "pose_refine.hpp"
 
 #include "opencv2/core/utils/filesystem.hpp"
 #include "opencv2/core/utils/logger.hpp"
@@ -654,11 +655,7 @@ void checkTemplatePose(const TemplatePose& p, const Template& t0, const String& 
     if (p.K(1, 0) != 0)
         CV_Error_(code, ("%s: pose K(1, 0) is %g, expected 0 (a pinhole matrix [fx s cx; 0 fy "
                          "cy; 0 0 1])", where.c_str(), p.K(1, 0)));
-    // a rotation, as the Renderer takes them (stored rotations deviate by a few 1e-3)
-    const double r_err = norm(p.R * p.R.t() - Matx33d::eye(), NORM_INF), det = determinant(p.R);
-    if (!(r_err <= 1e-2) || !(det > 0))
-        CV_Error_(code, ("%s: pose R is not a rotation (|R R^T - I| = %g, det = %g)",
-                         where.c_str(), r_err, det));
+    checkPose(p.R, p.t, where.c_str(), "pose R", code); // a rotation, as initialPose takes it
     const Vec3d c = p.K * p.t; // the object centre's projection, used by the depth modality
     if (!(std::abs(c[0]) <= 1e6 * c[2]) || !(std::abs(c[1]) <= 1e6 * c[2]))
         CV_Error_(code, ("%s: the object centre projects to (%g, %g), beyond 1e6 pixels",

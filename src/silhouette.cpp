@@ -194,6 +194,7 @@ static void chunkStates(const uchar* front, int nf, std::vector<uchar>& state)
     state.resize(nc + 2);
     int c = 0;
 #if CV_SIMD128
+    static_assert(SilhouetteEdges::kChunkFaces == 16, "a chunk is one 16-byte vector of flags");
     for (; (c + 1) * C <= nf; ++c)
     {
         const v_uint8x16 v = v_load(front + c * C);
