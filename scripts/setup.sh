@@ -15,7 +15,7 @@ say() { printf '[setup] %s\n' "$*" >&2; }
 
 # ---- 1. Debian packages ---------------------------------------------------------------------------
 pkgs=(build-essential cmake ninja-build pkg-config dpkg-dev xz-utils ca-certificates
-      libopencv-dev libopencv-contrib-dev libeigen3-dev libassimp-dev libosmesa6-dev)
+      libopencv-dev libopencv-contrib-dev libeigen3-dev libassimp-dev libosmesa6-dev python3)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
