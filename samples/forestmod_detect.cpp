@@ -49,6 +49,8 @@ static const char* keys
       "(PoseParams::rgb_hypotheses) }"
       "{rgb_keep        | 4    | without depth: of those, refined past the first pass "
       "(PoseParams::rgb_keep) }"
+      "{search_per_class | false | a model of several classes: each searched on its own, its "
+      "matches those of its templates alone (DetectorParams::search_per_class; slower) }"
       "{linemod         |      | also match the frame with cv::linemod::Detector and the same "
       "templates: both match() times (1 thread, best of --repeat calls) and its best match per "
       "class }"
@@ -191,6 +193,7 @@ int main(int argc, char** argv)
     cv::forestmod::PoseParams pose_params;
     pose_params.rgb_hypotheses = parser.get<int>("rgb_hypotheses");
     pose_params.rgb_keep = parser.get<int>("rgb_keep");
+    const bool search_per_class = parser.get<bool>("search_per_class");
     const std::string out = parser.get<std::string>("out");
     const std::string Kstr = parser.get<std::string>("K");
     const std::string meshes_arg = parser.get<std::string>("meshes");
@@ -314,6 +317,12 @@ int main(int argc, char** argv)
 
         cv::forestmod::Detector detector;
         detector.load(model);
+        if (search_per_class)
+        {
+            cv::forestmod::DetectorParams dp = detector.getParams();
+            dp.search_per_class = true;
+            detector.setParams(dp);
+        }
         const std::vector<cv::String> classes = detector.classIds();
         std::map<std::string, cv::forestmod::Mesh> meshes;
         for (size_t i = 0; i < classes.size(); ++i)

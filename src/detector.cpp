@@ -333,6 +333,62 @@ static std::vector<uchar> allowedRows(const DetectorView& d, const std::vector<S
     return allowed;
 }
 
+// The index rows that the scan and validation take at a time: the asked-for ones at once, or
+// with DetectorParams::search_per_class those of each asked-for class in turn.
+static std::vector<std::vector<uchar> > searchPasses(const DetectorView& d,
+                                                     const DetectorParams& params,
+                                                     const std::vector<uchar>& allowed,
+                                                     const std::vector<String>& classes)
+{
+    std::vector<std::vector<uchar> > passes;
+    if (!params.search_per_class || classes.size() < 2)
+    {
+        passes.push_back(allowed);
+        return passes;
+    }
+    const std::vector<detail::TemplateRef>& rows = d.impl.index.rows;
+    for (size_t c = 0; c < classes.size(); ++c)
+    {
+        std::vector<uchar> mine(rows.size(), 0);
+        for (size_t r = 0; r < rows.size(); ++r)
+            mine[r] = allowed[r] && rows[r].class_id == classes[c];
+        passes.push_back(mine);
+    }
+    return passes;
+}
+
+// DetectionStats::rejection_map over the passes of searchPasses: a location is rejected when
+// every pass rejects it (-1 where one does not; else the first pass's cause).
+static void mergeRejectionMaps(const Mat& pass, Mat& all)
+{
+    if (pass.empty())
+        return;
+    if (all.empty())
+    {
+        all = pass;
+        return;
+    }
+    CV_Assert(pass.size() == all.size() && pass.type() == CV_16SC1 && all.type() == CV_16SC1);
+    all.setTo(-1, pass == -1);
+}
+
+// 4. the finer levels' maps where the coarse matches will be refined (timed with the scene
+// pyramid), then the pyramid refinement (with the depth samples when the forest is used); the
+// matches sorted best first, repeats removed.
+static void refineAndSort(const DetectorView& d, detail::ScenePyramid& scene, float threshold,
+                          std::vector<Match>& matches, double& t_quant, double& t_valid,
+                          detail::StageClock& clock)
+{
+    std::vector<std::vector<Rect> > regions;
+    detail::refinementRegions(scene, d.pyramids, d.impl.store, matches, regions);
+    detail::prepareRefinementLevels(scene, regions);
+    t_quant += clock.lap();
+    detail::refineMatches(scene, d.pyramids, d.impl.store, threshold, matches);
+    std::sort(matches.begin(), matches.end());
+    matches.erase(std::unique(matches.begin(), matches.end()), matches.end());
+    t_valid += clock.lap();
+}
+
 // The pipeline of one frame: every match over the threshold, sorted best first, before
 // non-maximum suppression.
 // `scene_out` (optional) receives the frame's scene pyramid for the stages after matching.
@@ -370,31 +426,39 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
     detail::MatchCounters counters;
     Mat rejection_map;
     matches.clear();
+    double t_valid = 0;
     if (params.use_forest)
     {
-        // 2. scan: rejections and forests -> candidates per location
-        detail::LocationCandidates cands;
-        detail::scanLocations(d.impl.index, scene, params, allowed, stats != 0, cands);
-        t_tree = clock.lap();
-        counters = cands.counters;
-        rejection_map = cands.rejection_map;
-        // 3. validation: breadth-first, the best survivors of each location
-        detail::validateLocations(scene, cands, d.impl.index, d.pyramids, params, threshold,
-                                  allowed, matches);
+        // steps 2 to 4 for the asked-for classes at once, or once per class
+        // (DetectorParams::search_per_class), over the same scene pyramid; a class's matches
+        // keep their order when they join the others'
+        const std::vector<std::vector<uchar> > passes = searchPasses(d, params, allowed,
+                                                                     classes);
+        for (size_t k = 0; k < passes.size(); ++k)
+        {
+            // 2. scan: rejections and forests -> candidates per location
+            detail::LocationCandidates cands;
+            detail::scanLocations(d.impl.index, scene, params, passes[k], stats != 0, cands);
+            t_tree += clock.lap();
+            counters += cands.counters;
+            mergeRejectionMaps(cands.rejection_map, rejection_map);
+            // 3. validation: breadth-first, the best survivors of each location
+            std::vector<Match> found;
+            detail::validateLocations(scene, cands, d.impl.index, d.pyramids, params, threshold,
+                                      passes[k], found);
+            t_valid += clock.lap();
+            refineAndSort(d, scene, threshold, found, t_quant, t_valid, clock);
+            matches.insert(matches.end(), found.begin(), found.end());
+        }
+        if (passes.size() > 1)
+            std::stable_sort(matches.begin(), matches.end());
     }
     else // exhaustive LINEMOD search of the same templates
+    {
         detail::matchExhaustive(scene, d.pyramids, classes, threshold, matches, counters);
-    double t_valid = clock.lap();
-    // 4. the finer levels' maps where the coarse matches will be refined (timed with the scene
-    // pyramid), then the pyramid refinement (with the depth samples when the forest is used)
-    std::vector<std::vector<Rect> > regions;
-    detail::refinementRegions(scene, d.pyramids, d.impl.store, matches, regions);
-    detail::prepareRefinementLevels(scene, regions);
-    t_quant += clock.lap();
-    detail::refineMatches(scene, d.pyramids, d.impl.store, threshold, matches);
-    std::sort(matches.begin(), matches.end());
-    matches.erase(std::unique(matches.begin(), matches.end()), matches.end());
-    t_valid += clock.lap();
+        t_valid += clock.lap();
+        refineAndSort(d, scene, threshold, matches, t_quant, t_valid, clock);
+    }
     if (stats)
     {
         counters.addTo(*stats);

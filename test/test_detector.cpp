@@ -648,6 +648,97 @@ TEST(Forestmod_Detector, bad_input_raises)
     }
 }
 
+// Two classes of one object in one search group: "A", many views near the scene's, and "B", a
+// few views 20-26 degrees off. Sharing each position's lists, A's templates fill them where the
+// object lies and B loses its matches there; with search_per_class a class's matches are those of
+// match() asked for it alone, on the exhaustive and on the forest path.
+TEST(Forestmod_Detector, search_per_class_gives_each_class_its_own_matches)
+{
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
+    DetectorParams p;
+    p.nms_iou = 0.f;
+    cv::forestmod::Detector det(mods, Tpyr(), p);
+    const Size size(640, 480);
+    for (int i = 0; i < 20; ++i)
+    {
+        const bool a = i < 16;
+        Mat img = Mat::zeros(size, CV_8UC3), mask;
+        drawObject(img, &mask, Point2f(320, 240), a ? 2.f + i : 30.f + 2 * (i - 16), 1.f);
+        ASSERT_GE(det.addTemplate(std::vector<Mat>(2, img), a ? "A" : "B", mask), 0) << i;
+    }
+    RNG rng(3);
+    Mat scene = clutter(size, rng);
+    const Point2f at(300, 240);
+    drawObject(scene, 0, at, 10.f, 1.f);
+    const std::vector<Mat> sources(2, scene);
+    const float thr = 60.f;
+    // matches of `cls` whose box centre lies within 12 px of the object's centre
+    const auto near = [&](const std::vector<linemod::Match>& ms, const String& cls) {
+        std::vector<linemod::Match> out;
+        for (size_t i = 0; i < ms.size(); ++i)
+        {
+            const linemod::Template& t = det.getTemplates(ms[i].class_id, ms[i].template_id)[0];
+            const Point2f c(ms[i].x + t.width / 2.f, ms[i].y + t.height / 2.f);
+            if (ms[i].class_id == cls && cv::norm(c - at) <= 12.0)
+                out.push_back(ms[i]);
+        }
+        return out;
+    };
+    const auto ofClass = [](const std::vector<linemod::Match>& ms, const String& cls) {
+        std::vector<linemod::Match> out;
+        for (size_t i = 0; i < ms.size(); ++i)
+            if (ms[i].class_id == cls)
+                out.push_back(ms[i]);
+        return out;
+    };
+    for (int path = 0; path < 2; ++path) // the default (exhaustive: a small group), the forest
+    {
+        DetectorParams q = p;
+        q.exhaustive_ratio = path == 0 ? p.exhaustive_ratio : -1.f;
+        q.min_forest_templates = path == 0 ? p.min_forest_templates : 0;
+        det.setParams(q);
+        std::vector<linemod::Match> shared, alone_a, alone_b, own;
+        DetectionStats st_shared, st_own;
+        det.match(sources, thr, shared, std::vector<String>(), noArray(), std::vector<Mat>(),
+                  &st_shared);
+        det.match(sources, thr, alone_a, std::vector<String>(1, "A"));
+        det.match(sources, thr, alone_b, std::vector<String>(1, "B"));
+        ASSERT_FALSE(near(alone_a, "A").empty()) << path;
+        ASSERT_FALSE(alone_b.empty()) << path;
+        if (path == 0) // shared lists: A's templates fill B's places at the object
+        {
+            ASSERT_FALSE(near(alone_b, "B").empty());
+            EXPECT_LT(near(shared, "B").size(), near(alone_b, "B").size());
+        }
+        q.search_per_class = true;
+        det.setParams(q);
+        det.match(sources, thr, own, std::vector<String>(), noArray(), std::vector<Mat>(),
+                  &st_own);
+        expectSameMatches(ofClass(own, "A"), alone_a, cv::format("A, path %d", path));
+        expectSameMatches(ofClass(own, "B"), alone_b, cv::format("B, path %d", path));
+        for (size_t i = 1; i < own.size(); ++i)
+            ASSERT_GE(own[i - 1].similarity, own[i].similarity) << i; // best first
+        // the counters add up over the two classes' passes
+        EXPECT_EQ(2 * st_shared.locations, st_own.locations) << path;
+        // asked for one class, search_per_class changes nothing
+        std::vector<linemod::Match> one;
+        det.match(sources, thr, one, std::vector<String>(1, "B"));
+        expectSameMatches(one, alone_b, cv::format("B alone, path %d", path));
+    }
+    // the parameter is saved and read back
+    DetectorParams q = p;
+    q.search_per_class = true;
+    FileStorage out(".yml", FileStorage::WRITE | FileStorage::MEMORY);
+    out << "params" << "{";
+    q.write(out);
+    out << "}";
+    FileStorage in(out.releaseAndGetString(), FileStorage::READ | FileStorage::MEMORY);
+    DetectorParams back;
+    back.read(in["params"]);
+    EXPECT_TRUE(back.search_per_class);
+    EXPECT_FALSE(DetectorParams().search_per_class);
+}
+
 TEST(Forestmod_Detector, model_file_roundtrip_and_corrupt_files)
 {
     const std::vector<Ptr<linemod::Modality> > mods = gradientHue();

@@ -71,6 +71,7 @@ struct EvalOptions
     float exhaustive_ratio;      //!< DetectorParams::exhaustive_ratio when has_exhaustive_ratio
     bool has_exhaustive_ratio;
     int min_forest_templates;    //!< DetectorParams::min_forest_templates when >= 0
+    bool search_per_class;       //!< DetectorParams::search_per_class
     float depth_range_tolerance; //!< DetectorParams::depth_range_tolerance when has_...
     bool has_depth_range_tolerance;
     float fuzzy_margin;          //!< ForestParams::fuzzy_margin when >= 0

@@ -87,6 +87,8 @@ static const char* const keys
       "negative: never exhaustive, 0: always) }"
       "{min_forest_templates | -1  | experiment: DetectorParams::min_forest_templates (-1: "
       "default; 0: every search group decided by the sample) }"
+      "{search_per_class | false   | DetectorParams::search_per_class: each class of a model "
+      "searched on its own (Table 2: each object's matches those of its own templates alone) }"
       "{depth_range_tolerance |    | experiment: DetectorParams::depth_range_tolerance (empty: "
       "default; negative: off) }"
       "{fuzzy_margin    | -1       | experiment: ForestParams::fuzzy_margin of the forests (0: "
@@ -123,6 +125,7 @@ EvalOptions::EvalOptions()
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
       exhaustive_ratio(0.f), has_exhaustive_ratio(false), min_forest_templates(-1),
+      search_per_class(false),
       depth_range_tolerance(0.f),
       has_depth_range_tolerance(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
       depth_validation(true), hue_feature_saturation(-1),
@@ -203,6 +206,7 @@ fm::DetectorParams experimentParams(const EvalOptions& opt, fm::DetectorParams p
         p.exhaustive_ratio = opt.exhaustive_ratio;
     if (opt.min_forest_templates >= 0)
         p.min_forest_templates = opt.min_forest_templates;
+    p.search_per_class = opt.search_per_class;
     if (opt.has_depth_range_tolerance)
         p.depth_range_tolerance = opt.depth_range_tolerance;
     if (opt.fuzzy_margin >= 0.f)
@@ -287,6 +291,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.depth_validation = parser.get<int>("depth_validation") != 0;
     opt.max_survivors = parser.get<int>("max_survivors");
     opt.min_forest_templates = parser.get<int>("min_forest_templates");
+    opt.search_per_class = parser.get<bool>("search_per_class");
     opt.has_exhaustive_ratio = !parser.get<std::string>("exhaustive_ratio").empty();
     if (opt.has_exhaustive_ratio)
         opt.exhaustive_ratio = parser.get<float>("exhaustive_ratio");

@@ -110,6 +110,16 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     them; doc/detector.md, "Small models"). Default 64. 0: every group decided by the sample.
     Model files written without it load with 0 (they match as they did). */
     CV_PROP_RW int min_forest_templates;
+    /** The classes of a search group share its lists: each position of the exhaustive search and
+    each location of the forest path keeps its best templates over all of them, so one class's
+    templates can fill the lists at another's location, and that class then loses its match
+    there (LM-O's 8 objects in one RGB model, frames 15-34: 10 of the 41 top matches that the
+    objects' own models put on them; doc/experiments.md, "Lists per class"). true: the scan,
+    the validation and the refinement run once per asked-for class, over the same scene
+    pyramid, so a class's matches are those of match() asked for it alone (before non-maximum
+    suppression, which compares every class's; the DetectionStats counters add up over the
+    classes' passes); that 8-object model's match() takes about 2.3x as long. Default false. */
+    CV_PROP_RW bool search_per_class;
 
     // ---- depth modality (paper: depth "as another modality in the validation stage") ----
     /** With a DepthNormal modality, addTemplate keeps up to this many depth samples per template;
