@@ -118,7 +118,7 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     the validation and the refinement run once per asked-for class, over the same scene
     pyramid, so a class's matches are those of match() asked for it alone (before non-maximum
     suppression, which compares every class's; the DetectionStats counters add up over the
-    classes' passes); that 8-object model's match() takes about 2.3x as long. Default false. */
+    classes' passes); that 8-object model's match() takes about 4x as long. Default false. */
     CV_PROP_RW bool search_per_class;
 
     // ---- depth modality (paper: depth "as another modality in the validation stage") ----
