@@ -333,8 +333,9 @@ static std::vector<uchar> allowedRows(const DetectorView& d, const std::vector<S
     return allowed;
 }
 
-// The index rows that the scan and validation take at a time: the asked-for ones at once, or
-// with DetectorParams::search_per_class those of each asked-for class in turn.
+// With DetectorParams::search_per_class and several asked-for classes, the index rows of each
+// class in turn, which the scan and validation take one after the other; else none (the
+// asked-for rows at once).
 static std::vector<std::vector<uchar> > searchPasses(const DetectorView& d,
                                                      const DetectorParams& params,
                                                      const std::vector<uchar>& allowed,
@@ -342,10 +343,7 @@ static std::vector<std::vector<uchar> > searchPasses(const DetectorView& d,
 {
     std::vector<std::vector<uchar> > passes;
     if (!params.search_per_class || classes.size() < 2)
-    {
-        passes.push_back(allowed);
         return passes;
-    }
     const std::vector<detail::TemplateRef>& rows = d.impl.index.rows;
     for (size_t c = 0; c < classes.size(); ++c)
     {
@@ -434,21 +432,25 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
         // keep their order when they join the others'
         const std::vector<std::vector<uchar> > passes = searchPasses(d, params, allowed,
                                                                      classes);
-        for (size_t k = 0; k < passes.size(); ++k)
+        for (size_t k = 0; k < std::max<size_t>(1, passes.size()); ++k)
         {
+            const std::vector<uchar>& rows = passes.empty() ? allowed : passes[k];
             // 2. scan: rejections and forests -> candidates per location
             detail::LocationCandidates cands;
-            detail::scanLocations(d.impl.index, scene, params, passes[k], stats != 0, cands);
+            detail::scanLocations(d.impl.index, scene, params, rows, stats != 0, cands);
             t_tree += clock.lap();
             counters += cands.counters;
             mergeRejectionMaps(cands.rejection_map, rejection_map);
             // 3. validation: breadth-first, the best survivors of each location
             std::vector<Match> found;
             detail::validateLocations(scene, cands, d.impl.index, d.pyramids, params, threshold,
-                                      passes[k], found);
+                                      rows, found);
             t_valid += clock.lap();
             refineAndSort(d, scene, threshold, found, t_quant, t_valid, clock);
-            matches.insert(matches.end(), found.begin(), found.end());
+            if (matches.empty())
+                matches.swap(found);
+            else
+                matches.insert(matches.end(), found.begin(), found.end());
         }
         if (passes.size() > 1)
             std::stable_sort(matches.begin(), matches.end());
