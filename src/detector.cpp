@@ -333,57 +333,62 @@ static std::vector<uchar> allowedRows(const DetectorView& d, const std::vector<S
     return allowed;
 }
 
-// With DetectorParams::search_per_class and several asked-for classes, the index rows of each
-// class in turn, which the scan and validation take one after the other; else none (the
-// asked-for rows at once).
-static std::vector<std::vector<uchar> > searchPasses(const DetectorView& d,
-                                                     const DetectorParams& params,
-                                                     const std::vector<uchar>& allowed,
-                                                     const std::vector<String>& classes)
+// With DetectorParams::search_per_class and several asked-for classes: per index row, the index
+// of its class in `classes` (-1 when not asked for); else empty (the classes share the lists).
+static std::vector<int> classOfRow(const DetectorView& d, const DetectorParams& params,
+                                   const std::vector<uchar>& allowed,
+                                   const std::vector<String>& classes)
 {
-    std::vector<std::vector<uchar> > passes;
+    std::vector<int> class_of_row;
     if (!params.search_per_class || classes.size() < 2)
-        return passes;
+        return class_of_row;
     const std::vector<detail::TemplateRef>& rows = d.impl.index.rows;
-    for (size_t c = 0; c < classes.size(); ++c)
-    {
-        std::vector<uchar> mine(rows.size(), 0);
-        for (size_t r = 0; r < rows.size(); ++r)
-            mine[r] = allowed[r] && rows[r].class_id == classes[c];
-        passes.push_back(mine);
-    }
-    return passes;
-}
-
-// DetectionStats::rejection_map over the passes of searchPasses: a location is rejected when
-// every pass rejects it (-1 where one does not; else the first pass's cause).
-static void mergeRejectionMaps(const Mat& pass, Mat& all)
-{
-    if (pass.empty())
-        return;
-    if (all.empty())
-    {
-        all = pass;
-        return;
-    }
-    CV_Assert(pass.size() == all.size() && pass.type() == CV_16SC1 && all.type() == CV_16SC1);
-    all.setTo(-1, pass == -1);
+    class_of_row.assign(rows.size(), -1);
+    for (size_t r = 0; r < rows.size(); ++r)
+        if (allowed[r])
+            class_of_row[r] = static_cast<int>(
+                std::find(classes.begin(), classes.end(), rows[r].class_id) - classes.begin());
+    return class_of_row;
 }
 
 // 4. the finer levels' maps where the coarse matches will be refined (timed with the scene
 // pyramid), then the pyramid refinement (with the depth samples when the forest is used); the
 // matches sorted best first, repeats removed.
+// With `per_class` the matches come class after class, and each class's are sorted on their own
+// before the classes' are joined by a stable sort (the order of each class's matches is that of
+// a search asked for it alone).
 static void refineAndSort(const DetectorView& d, detail::ScenePyramid& scene, float threshold,
-                          std::vector<Match>& matches, double& t_quant, double& t_valid,
-                          detail::StageClock& clock)
+                          std::vector<Match>& matches, bool per_class, double& t_quant,
+                          double& t_valid, detail::StageClock& clock)
 {
     std::vector<std::vector<Rect> > regions;
     detail::refinementRegions(scene, d.pyramids, d.impl.store, matches, regions);
     detail::prepareRefinementLevels(scene, regions);
     t_quant += clock.lap();
     detail::refineMatches(scene, d.pyramids, d.impl.store, threshold, matches);
-    std::sort(matches.begin(), matches.end());
-    matches.erase(std::unique(matches.begin(), matches.end()), matches.end());
+    if (!per_class)
+    {
+        std::sort(matches.begin(), matches.end());
+        matches.erase(std::unique(matches.begin(), matches.end()), matches.end());
+    }
+    else
+    {
+        size_t n = 0;
+        for (size_t b = 0; b < matches.size();)
+        {
+            size_t e = b + 1;
+            while (e < matches.size() && matches[e].class_id == matches[b].class_id)
+                ++e;
+            std::sort(matches.begin() + b, matches.begin() + e);
+            const size_t u = std::unique(matches.begin() + b, matches.begin() + e)
+                - matches.begin();
+            for (size_t k = b; k < u; ++k)
+                std::swap(matches[n++], matches[k]);
+            b = e;
+        }
+        matches.resize(n);
+        std::stable_sort(matches.begin(), matches.end());
+    }
     t_valid += clock.lap();
 }
 
@@ -427,39 +432,36 @@ static void matchFrame(const DetectorView& d, const std::vector<Mat>& sources, f
     double t_valid = 0;
     if (params.use_forest)
     {
-        // steps 2 to 4 for the asked-for classes at once, or once per class
-        // (DetectorParams::search_per_class), over the same scene pyramid; a class's matches
-        // keep their order when they join the others'
-        const std::vector<std::vector<uchar> > passes = searchPasses(d, params, allowed,
-                                                                     classes);
-        for (size_t k = 0; k < std::max<size_t>(1, passes.size()); ++k)
-        {
-            const std::vector<uchar>& rows = passes.empty() ? allowed : passes[k];
-            // 2. scan: rejections and forests -> candidates per location
-            detail::LocationCandidates cands;
-            detail::scanLocations(d.impl.index, scene, params, rows, stats != 0, cands);
-            t_tree += clock.lap();
-            counters += cands.counters;
-            mergeRejectionMaps(cands.rejection_map, rejection_map);
-            // 3. validation: breadth-first, the best survivors of each location
-            std::vector<Match> found;
+        // 2. scan: rejections and forests -> candidates per location
+        detail::LocationCandidates cands;
+        detail::scanLocations(d.impl.index, scene, params, allowed, stats != 0, cands);
+        t_tree += clock.lap();
+        counters += cands.counters;
+        rejection_map = cands.rejection_map;
+        // 3. validation: breadth-first, the best survivors of each location; the lists shared by
+        // the asked-for classes, or each class's own (DetectorParams::search_per_class)
+        const std::vector<int> class_of_row = classOfRow(d, params, allowed, classes);
+        if (class_of_row.empty())
             detail::validateLocations(scene, cands, d.impl.index, d.pyramids, params, threshold,
-                                      rows, found);
-            t_valid += clock.lap();
-            refineAndSort(d, scene, threshold, found, t_quant, t_valid, clock);
-            if (matches.empty())
-                matches.swap(found);
-            else
-                matches.insert(matches.end(), found.begin(), found.end());
+                                      allowed, matches);
+        else
+        {
+            std::vector<std::vector<Match> > per_class(classes.size());
+            detail::validateLocationsPerClass(scene, cands, d.impl.index, d.pyramids, params,
+                                              threshold, class_of_row, per_class);
+            for (size_t c = 0; c < per_class.size(); ++c)
+                matches.insert(matches.end(), per_class[c].begin(), per_class[c].end());
         }
-        if (passes.size() > 1)
-            std::stable_sort(matches.begin(), matches.end());
+        t_valid += clock.lap();
+        // 4. refinement
+        refineAndSort(d, scene, threshold, matches, !class_of_row.empty(), t_quant, t_valid,
+                      clock);
     }
     else // exhaustive LINEMOD search of the same templates
     {
         detail::matchExhaustive(scene, d.pyramids, classes, threshold, matches, counters);
         t_valid += clock.lap();
-        refineAndSort(d, scene, threshold, matches, t_quant, t_valid, clock);
+        refineAndSort(d, scene, threshold, matches, false, t_quant, t_valid, clock);
     }
     if (stats)
     {

@@ -111,6 +111,14 @@ static inline void prefetchRuns(const CoarseRuns& coarse, const int* offsets, in
 }
 
 namespace {
+// The best lists a position keeps: one (list_of_row null), or one per class, each row's in
+// (*of_row)[row] (searchExhaustive's list_of_row).
+struct ListsOfRows
+{
+    int count;
+    const std::vector<int>* of_row;
+};
+
 // searchTemplates' buffers, reused from template to template.
 struct SearchBuffers
 {
@@ -147,13 +155,15 @@ static int passingBySimilarity(const LevelMaps& top, int L, const LinearMemories
 }
 
 // The templates rows[i0 .. i1) at every position (with a depth test, at the positions where the
-// scene depth reaches into their widened depth span): each position's best K in `best` (lists of
-// the T grid's cells, row-major), its entry bar in `bar` (the scores' layout r * stride + c).
+// scene depth reaches into their widened depth span): each position's best K of each list (of
+// `lists`) in `best_all` (the T grid's cells row-major, a cell's lists one after the other), the
+// list's entry bars at bar_all + list x bar_size (the scores' layout r * stride + c).
 static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& lm,
                             const SearchIndex& index, const int* offsets,
                             const ClassPyramids& pyramids, const std::vector<int>& rows, int i0,
-                            int i1, float threshold, int K, const DepthCells* cells,
-                            float tolerance, Scored* best, ushort* bar)
+                            int i1, float threshold, int K, const ListsOfRows& lists,
+                            const DepthCells* cells, float tolerance, Scored* best_all,
+                            ushort* bar_all, size_t bar_size)
 {
     const CoarseRuns& coarse = index.coarse;
     SearchBuffers buf;
@@ -163,6 +173,11 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
             prefetchRuns(coarse, offsets, rows[i + 1]);
         Scored sc;
         sc.row = rows[i];
+        // the lists (and so the entry bars) of the row's class, or the only ones
+        const int list = lists.of_row ? (*lists.of_row)[sc.row] : 0;
+        Scored* best = best_all + (size_t)list * K;
+        ushort* bar = bar_all + (size_t)list * bar_size;
+        const int stride_K = lists.count * K; // from one position's lists to the next's
         sc.total = coarse.total[sc.row];
         const int raw_thr = rawThreshold(threshold, sc.total);
         if (raw_thr >= 65535)
@@ -213,9 +228,9 @@ static void searchTemplates(const LevelMaps& top, int L, const LinearMemories& l
             if (c > span_x || (cells && !cells->reaches(c + centre.x, r + centre.y, z)))
                 continue;
             sc.raw = buf.scores[p];
-            Scored* list = best + (size_t)(r * lm.cells_x + c) * K;
-            if (keepBest(list, K, sc)) // the bar only moves when the list changes
-                bar_r0[p] = entryBar(list[K - 1]);
+            Scored* top_k = best + (size_t)(r * lm.cells_x + c) * stride_K;
+            if (keepBest(top_k, K, sc)) // the bar only moves when the list changes
+                bar_r0[p] = entryBar(top_k[K - 1]);
         }
     }
 }
@@ -279,7 +294,8 @@ private:
 void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
                       const ClassPyramids& pyramids, const std::vector<int>& rows,
                       float threshold, int keep, float depth_tolerance,
-                      std::vector<cv::linemod::Match>& out)
+                      const std::vector<std::vector<cv::linemod::Match>*>& out,
+                      const std::vector<int>* list_of_row)
 {
     const LevelMaps& top = scene.coarsest();
     const int L = scene.coarsestIndex();
@@ -296,33 +312,41 @@ void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
     const int* offsets = runs->offsets.empty() ? 0 : &runs->offsets[0];
     const int P = lm.cells_x * lm.cells_y;
     const int n = static_cast<int>(rows.size());
+    ListsOfRows lists;
+    lists.count = static_cast<int>(out.size());
+    lists.of_row = list_of_row;
+    CV_Assert(lists.count >= 1 && (lists.count == 1 || list_of_row));
+    // each list's bars padded for the kernel's whole-vector reads
+    const size_t bar_size = (size_t)lm.stride * lm.cells_y + LinearMemories::kSlack;
     // templates in blocks taken by the threads as they free up, each thread's templates into
     // best lists (and so entry bars) of its own, which rise with every template it scores; the
     // lists are merged afterwards: a position's best K of a union are the best K of its parts'
     // best K, however the blocks fall to the threads (Scored::better is a total order)
     const int blocks = std::max(1, std::min(n, 16 * getNumThreads()));
-    WorkerLists lists((size_t)P * K, (size_t)lm.stride * lm.cells_y);
+    WorkerLists workers((size_t)P * lists.count * K, bar_size * lists.count);
     parallel_for_(Range(0, blocks), [&](const Range& range) {
-        WorkerLists::Slot& slot = lists.take();
+        WorkerLists::Slot& slot = workers.take();
         for (int b = range.start; b < range.end; ++b)
             searchTemplates(top, L, lm, index, offsets, pyramids, rows,
                             (int)((int64)n * b / blocks), (int)((int64)n * (b + 1) / blocks),
-                            threshold, K, cells, depth_tolerance, &slot.best[0], &slot.bar[0]);
-        lists.give(slot);
+                            threshold, K, lists, cells, depth_tolerance, &slot.best[0],
+                            &slot.bar[0], bar_size);
+        workers.give(slot);
     }, blocks);
-    std::vector<Scored>& best = lists.merged(K);
+    std::vector<Scored>& best = workers.merged(K);
     for (int p = 0; p < P; ++p)
-        for (int k = 0; k < K; ++k)
-        {
-            const Scored& sc = best[(size_t)p * K + k];
-            if (sc.row < 0)
-                break;
-            const TemplateRef& ref = index.rows[sc.row];
-            const int c = p % lm.cells_x, r = p / lm.cells_x;
-            out.push_back(cv::linemod::Match(c * T + offset, r * T + offset,
-                                             (sc.raw * 100.f) / (4 * sc.total) + 0.5f,
-                                             ref.class_id, ref.template_id));
-        }
+        for (int l = 0; l < lists.count; ++l)
+            for (int k = 0; k < K; ++k)
+            {
+                const Scored& sc = best[((size_t)p * lists.count + l) * K + k];
+                if (sc.row < 0)
+                    break;
+                const TemplateRef& ref = index.rows[sc.row];
+                const int c = p % lm.cells_x, r = p / lm.cells_x;
+                out[l]->push_back(cv::linemod::Match(c * T + offset, r * T + offset,
+                                                     (sc.raw * 100.f) / (4 * sc.total) + 0.5f,
+                                                     ref.class_id, ref.template_id));
+            }
 }
 
 // Every position of one template on the coarsest level.

@@ -35,14 +35,17 @@ CV_EXPORTS bool scoreEverywhere(const LinearMemories& lm, const TemplatePyramid&
 position of the coarsest level's T grid where it fits (cv::linemod's positions and scores) and,
 when the scene has depth cells (ScenePyramid::depth_cells), where the scene depth around its
 centre reaches into its depth samples' range widened by `depth_tolerance`; each
-position keeps its best `keep` templates over the threshold as coarse matches, appended to `out`
-(row-major positions, best first). The templates are scored in blocks that the threads take as
-they free up, each thread into best lists of its own, merged afterwards: the result does not
-depend on the threads. */
+position keeps its best `keep` templates over the threshold as coarse matches, appended to
+`*out[0]` (row-major positions, best first). With `list_of_row` (per index row, an index into
+`out`; DetectorParams::search_per_class) a position keeps the best `keep` of each list, with entry
+bars of its own, appended to `*out[list]`: what a search of that list's rows alone gives.
+The templates are scored in blocks that the threads take as they free up, each thread into best
+lists of its own, merged afterwards: the result does not depend on the threads. */
 void searchExhaustive(const ScenePyramid& scene, const SearchIndex& index,
                       const ClassPyramids& pyramids, const std::vector<int>& rows,
                       float threshold, int keep, float depth_tolerance,
-                      std::vector<cv::linemod::Match>& out);
+                      const std::vector<std::vector<cv::linemod::Match>*>& out,
+                      const std::vector<int>* list_of_row = 0);
 
 /** Exhaustive LINEMOD search of the given classes: every template at every position of the
 coarsest level where it fits, class by class, template by template; the coarse matches over the

@@ -419,17 +419,14 @@ static void prepareContext(const ScenePyramid& scene, const LocationCandidates& 
     }
 }
 
-void validateLocations(const ScenePyramid& scene, const LocationCandidates& cands,
-                       const SearchIndex& index, const ClassPyramids& pyramids,
-                       const DetectorParams& params, float threshold,
-                       const std::vector<uchar>& row_allowed,
-                       std::vector<cv::linemod::Match>& coarse, int* exhaustive_groups)
+// The index rows of the groups the scan left to the exhaustive search whose class was asked for
+// (marked in skip_row: they are in no location's candidates); returns the number of such groups.
+static int exhaustiveRows(const LocationCandidates& cands, const SearchIndex& index,
+                          const std::vector<uchar>& row_allowed, std::vector<uchar>& skip_row,
+                          std::vector<int>& dense_rows)
 {
-    const LevelMaps& top = scene.coarsest();
-    coarse.clear();
-    // the groups the scan left to the exhaustive search: all their asked-for templates
-    std::vector<uchar> skip_row(index.rows.size(), 0);
-    std::vector<int> dense_rows;
+    skip_row.assign(index.rows.size(), 0);
+    dense_rows.clear();
     int dense_groups = 0;
     for (size_t g = 0; g < cands.exhaustive.size(); ++g)
     {
@@ -444,41 +441,131 @@ void validateLocations(const ScenePyramid& scene, const LocationCandidates& cand
                 dense_rows.push_back(grp.rows[k]);
             }
     }
-    if (exhaustive_groups)
-        *exhaustive_groups = dense_groups;
+    return dense_groups;
+}
 
+// The forest path's part of the validation: every location's candidates (those not in skip_row)
+// validated, the best max_survivors of each over the threshold appended to `coarse`, in location
+// order.
+static void validateForestPath(const ScenePyramid& scene, const LocationCandidates& cands,
+                               const SearchIndex& index, const ClassPyramids& pyramids,
+                               const DetectorParams& params, float threshold,
+                               const std::vector<uchar>& skip_row,
+                               std::vector<cv::linemod::Match>& coarse)
+{
+    const LevelMaps& top = scene.coarsest();
     CV_Assert(params.chunk_size > 0);
     ValidationContext ctx;
     prepareContext(scene, cands, index, pyramids, skip_row, params.chunk_size, ctx);
+    if (ctx.rows.empty())
+        return;
     const int n = cands.size();
     // locations in blocks, each block's matches in order: the result does not depend on threads
     // (nor on the blocks: every location is validated on its own)
     const int block = 64;
     const int blocks = (n + block - 1) / block;
     std::vector<std::vector<cv::linemod::Match> > per_block(blocks);
-    if (!ctx.rows.empty())
-        parallel_for_(Range(0, blocks), [&](const Range& range) {
-            PairBlock s;
-            s.local.assign(ctx.rows.size(), -1);
-            for (int b = range.start; b < range.end; ++b)
-            {
-                const int i0 = b * block, i1 = std::min(n, (b + 1) * block);
-                collectPairs(ctx, cands, i0, i1, skip_row, s);
-                validatePairs(ctx, params, s);
-                for (int i = i0; i < i1; ++i)
-                    emitLocation(ctx, cands, i0, i, index, params, threshold, top.T, s,
-                                 per_block[b]);
-            }
-        });
+    parallel_for_(Range(0, blocks), [&](const Range& range) {
+        PairBlock s;
+        s.local.assign(ctx.rows.size(), -1);
+        for (int b = range.start; b < range.end; ++b)
+        {
+            const int i0 = b * block, i1 = std::min(n, (b + 1) * block);
+            collectPairs(ctx, cands, i0, i1, skip_row, s);
+            validatePairs(ctx, params, s);
+            for (int i = i0; i < i1; ++i)
+                emitLocation(ctx, cands, i0, i, index, params, threshold, top.T, s,
+                             per_block[b]);
+        }
+    });
     for (int b = 0; b < blocks; ++b)
         coarse.insert(coarse.end(), per_block[b].begin(), per_block[b].end());
+}
+
+// The exhaustive search's coarse matches per position: max_survivors for each of the forest
+// path's locations that a cell of the T grid holds.
+static int exhaustiveKeep(const ScenePyramid& scene, const LocationCandidates& cands,
+                          const DetectorParams& params)
+{
+    const int T = scene.coarsest().T;
+    const int per_cell = (T + cands.step - 1) / cands.step;
+    return params.max_survivors * per_cell * per_cell;
+}
+
+void validateLocations(const ScenePyramid& scene, const LocationCandidates& cands,
+                       const SearchIndex& index, const ClassPyramids& pyramids,
+                       const DetectorParams& params, float threshold,
+                       const std::vector<uchar>& row_allowed,
+                       std::vector<cv::linemod::Match>& coarse, int* exhaustive_groups)
+{
+    coarse.clear();
+    std::vector<uchar> skip_row;
+    std::vector<int> dense_rows;
+    const int dense_groups = exhaustiveRows(cands, index, row_allowed, skip_row, dense_rows);
+    if (exhaustive_groups)
+        *exhaustive_groups = dense_groups;
+    validateForestPath(scene, cands, index, pyramids, params, threshold, skip_row, coarse);
     if (!dense_rows.empty())
-    {
-        const int per_cell = (top.T + cands.step - 1) / cands.step;
         searchExhaustive(scene, index, pyramids, dense_rows, threshold,
-                         params.max_survivors * per_cell * per_cell, params.depth_range_tolerance,
-                         coarse);
+                         exhaustiveKeep(scene, cands, params), params.depth_range_tolerance,
+                         std::vector<std::vector<cv::linemod::Match>*>(1, &coarse));
+}
+
+// The candidates of `cands` whose class is `c` (class_of_row), the locations without one left
+// out: what the scan gives when it is asked for that class alone.
+static void candidatesOfClass(const LocationCandidates& cands,
+                              const std::vector<int>& class_of_row, int c,
+                              LocationCandidates& out)
+{
+    out = LocationCandidates();
+    out.step = cands.step;
+    out.exhaustive = cands.exhaustive;
+    out.begin.push_back(0);
+    for (int i = 0; i < cands.size(); ++i)
+    {
+        const size_t before = out.rows.size();
+        for (int k = cands.begin[i]; k < cands.begin[i + 1]; ++k)
+            if (class_of_row[cands.rows[k]] == c)
+                out.rows.push_back(cands.rows[k]);
+        if (out.rows.size() == before)
+            continue;
+        out.location.push_back(cands.location[i]);
+        out.begin.push_back(static_cast<int>(out.rows.size()));
     }
+}
+
+void validateLocationsPerClass(const ScenePyramid& scene, const LocationCandidates& cands,
+                               const SearchIndex& index, const ClassPyramids& pyramids,
+                               const DetectorParams& params, float threshold,
+                               const std::vector<int>& class_of_row,
+                               std::vector<std::vector<cv::linemod::Match> >& coarse)
+{
+    CV_Assert(class_of_row.size() == index.rows.size() && !coarse.empty());
+    const int classes = static_cast<int>(coarse.size());
+    std::vector<uchar> allowed(index.rows.size());
+    for (size_t r = 0; r < allowed.size(); ++r)
+    {
+        CV_Assert(class_of_row[r] < classes);
+        allowed[r] = class_of_row[r] >= 0;
+    }
+    std::vector<uchar> skip_row;
+    std::vector<int> dense_rows;
+    exhaustiveRows(cands, index, allowed, skip_row, dense_rows);
+    std::vector<std::vector<cv::linemod::Match>*> lists(classes);
+    for (int c = 0; c < classes; ++c)
+    {
+        coarse[c].clear();
+        lists[c] = &coarse[c];
+        if (cands.size() == 0)
+            continue;
+        LocationCandidates mine;
+        candidatesOfClass(cands, class_of_row, c, mine);
+        validateForestPath(scene, mine, index, pyramids, params, threshold, skip_row, coarse[c]);
+    }
+    if (!dense_rows.empty())
+        searchExhaustive(scene, index, pyramids, dense_rows, threshold,
+                         exhaustiveKeep(scene, cands, params), params.depth_range_tolerance,
+                         lists, &class_of_row);
 }
 
 } // namespace detail

@@ -41,6 +41,17 @@ CV_EXPORTS void validateLocations(const ScenePyramid& scene, const LocationCandi
                                   std::vector<cv::linemod::Match>& coarse,
                                   int* exhaustive_groups = 0);
 
+/** validateLocations for each class on its own (DetectorParams::search_per_class): class_of_row
+holds, per index row, the class's index into `coarse` (one list per class), -1 for a class not
+asked for. A location's survivors are chosen among its candidates of one class, and the
+exhaustive search's positions keep the best of each class, with entry bars of their own: coarse[c]
+is what validateLocations gives with the same candidates and groups asked for class c alone. */
+void validateLocationsPerClass(const ScenePyramid& scene, const LocationCandidates& cands,
+                               const SearchIndex& index, const ClassPyramids& pyramids,
+                               const DetectorParams& params, float threshold,
+                               const std::vector<int>& class_of_row,
+                               std::vector<std::vector<cv::linemod::Match> >& coarse);
+
 } // namespace detail
 } // namespace forestmod
 } // namespace cv

@@ -88,7 +88,7 @@ static const char* const keys
       "{min_forest_templates | -1  | experiment: DetectorParams::min_forest_templates (-1: "
       "default; 0: every search group decided by the sample) }"
       "{search_per_class | false   | DetectorParams::search_per_class: each class of a model "
-      "searched on its own (Table 2: each object's matches those of its own templates alone) }"
+      "keeps lists of its own (Table 2: each object's matches those of its own templates alone) }"
       "{depth_range_tolerance |    | experiment: DetectorParams::depth_range_tolerance (empty: "
       "default; negative: off) }"
       "{fuzzy_margin    | -1       | experiment: ForestParams::fuzzy_margin of the forests (0: "
