@@ -123,7 +123,7 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     way (exhaustive or forest) for the class alone as for all asked-for classes: always for
     groups of at most min_forest_templates templates and with exhaustive_ratio 0 or negative.
     The DetectionStats counters are the one scan's. That 8-object model's match() takes about
-    2.3x as long as with shared lists. Default false. */
+    2.5x as long as with shared lists. Default false. */
     CV_PROP_RW bool search_per_class;
 
     // ---- depth modality (paper: depth "as another modality in the validation stage") ----
