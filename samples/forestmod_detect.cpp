@@ -51,6 +51,8 @@ static const char* keys
       "(PoseParams::rgb_keep) }"
       "{search_per_class | false | a model of several classes: each class keeps lists of its "
       "own, its matches those of its templates alone (DetectorParams::search_per_class; slower) }"
+      "{exhaustive_ratio |      | DetectorParams::exhaustive_ratio (empty: the model's; 0: every "
+      "search group searched exhaustively, negative: every group on the forest path) }"
       "{linemod         |      | also match the frame with cv::linemod::Detector and the same "
       "templates: both match() times (1 thread, best of --repeat calls) and its best match per "
       "class }"
@@ -194,6 +196,8 @@ int main(int argc, char** argv)
     pose_params.rgb_hypotheses = parser.get<int>("rgb_hypotheses");
     pose_params.rgb_keep = parser.get<int>("rgb_keep");
     const bool search_per_class = parser.get<bool>("search_per_class");
+    const bool set_ratio = parser.has("exhaustive_ratio");
+    const float exhaustive_ratio = set_ratio ? parser.get<float>("exhaustive_ratio") : 0.f;
     const std::string out = parser.get<std::string>("out");
     const std::string Kstr = parser.get<std::string>("K");
     const std::string meshes_arg = parser.get<std::string>("meshes");
@@ -317,10 +321,12 @@ int main(int argc, char** argv)
 
         cv::forestmod::Detector detector;
         detector.load(model);
-        if (search_per_class)
+        if (search_per_class || set_ratio)
         {
             cv::forestmod::DetectorParams dp = detector.getParams();
-            dp.search_per_class = true;
+            dp.search_per_class = dp.search_per_class || search_per_class;
+            if (set_ratio)
+                dp.exhaustive_ratio = exhaustive_ratio;
             detector.setParams(dp);
         }
         const std::vector<cv::String> classes = detector.classIds();
