@@ -373,21 +373,18 @@ static void refineAndSort(const DetectorView& d, detail::ScenePyramid& scene, fl
     }
     else
     {
-        size_t n = 0;
-        for (size_t b = 0; b < matches.size();)
+        std::vector<Match> sorted;
+        sorted.reserve(matches.size());
+        for (size_t b = 0, e = 0; b < matches.size(); b = e)
         {
-            size_t e = b + 1;
             while (e < matches.size() && matches[e].class_id == matches[b].class_id)
                 ++e;
             std::sort(matches.begin() + b, matches.begin() + e);
-            const size_t u = std::unique(matches.begin() + b, matches.begin() + e)
-                - matches.begin();
-            for (size_t k = b; k < u; ++k)
-                std::swap(matches[n++], matches[k]);
-            b = e;
+            sorted.insert(sorted.end(), matches.begin() + b,
+                          std::unique(matches.begin() + b, matches.begin() + e));
         }
-        matches.resize(n);
-        std::stable_sort(matches.begin(), matches.end());
+        std::stable_sort(sorted.begin(), sorted.end());
+        matches.swap(sorted);
     }
     t_valid += clock.lap();
 }
