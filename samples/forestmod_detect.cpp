@@ -53,6 +53,8 @@ static const char* keys
       "own, its matches those of its templates alone (DetectorParams::search_per_class; slower) }"
       "{exhaustive_ratio |      | DetectorParams::exhaustive_ratio (empty: the model's; 0: every "
       "search group searched exhaustively, negative: every group on the forest path) }"
+      "{descent_cost    |      | DetectorParams::descent_cost (empty: the model's; 0: the "
+      "scan's sample counts the pairs only, not the trees' descents) }"
       "{linemod         |      | also match the frame with cv::linemod::Detector and the same "
       "templates: both match() times (1 thread, best of --repeat calls) and its best match per "
       "class }"
@@ -198,6 +200,8 @@ int main(int argc, char** argv)
     const bool search_per_class = parser.get<bool>("search_per_class");
     const bool set_ratio = parser.has("exhaustive_ratio");
     const float exhaustive_ratio = set_ratio ? parser.get<float>("exhaustive_ratio") : 0.f;
+    const bool set_descent = parser.has("descent_cost");
+    const float descent_cost = set_descent ? parser.get<float>("descent_cost") : 0.f;
     const std::string out = parser.get<std::string>("out");
     const std::string Kstr = parser.get<std::string>("K");
     const std::string meshes_arg = parser.get<std::string>("meshes");
@@ -321,12 +325,14 @@ int main(int argc, char** argv)
 
         cv::forestmod::Detector detector;
         detector.load(model);
-        if (search_per_class || set_ratio)
+        if (search_per_class || set_ratio || set_descent)
         {
             cv::forestmod::DetectorParams dp = detector.getParams();
             dp.search_per_class = dp.search_per_class || search_per_class;
             if (set_ratio)
                 dp.exhaustive_ratio = exhaustive_ratio;
+            if (set_descent)
+                dp.descent_cost = descent_cost;
             detector.setParams(dp);
         }
         const std::vector<cv::String> classes = detector.classIds();

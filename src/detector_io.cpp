@@ -27,7 +27,7 @@ DetectorParams::DetectorParams()
       auto_depth_leaf_samples(8.f), use_forest(true), location_step(0), min_window_labels(0.5f),
       depth_range_tolerance(0.25f), breadth_first(true), chunk_size(16), alpha(0.5f),
       max_survivors(2),
-      exhaustive_ratio(0.01f), min_forest_templates(64), search_per_class(false),
+      exhaustive_ratio(0.01f), descent_cost(2.f), min_forest_templates(64), search_per_class(false),
       depth_samples(63), depth_tolerance(5), nms_iou(0.5f)
 {
     forest.max_depth = 0; // chosen at train() per search group (auto_depth_leaf_samples)
@@ -48,6 +48,7 @@ void DetectorParams::read(const FileNode& fn)
     detail::readField(fn, "nms_iou", nms_iou);
     detail::readField(fn, "max_survivors", max_survivors);
     detail::readField(fn, "exhaustive_ratio", exhaustive_ratio);
+    detail::readField(fn, "descent_cost", descent_cost);
     detail::readField(fn, "min_forest_templates", min_forest_templates);
     detail::readField(fn, "search_per_class", search_per_class);
     detail::readField(fn, "depth_samples", depth_samples);
@@ -79,7 +80,7 @@ void DetectorParams::write(FileStorage& fs) const
     fs << "location_step" << location_step << "nms_iou" << nms_iou;
     fs << "max_survivors" << max_survivors << "depth_samples" << depth_samples;
     fs << "exhaustive_ratio" << exhaustive_ratio << "min_forest_templates" << min_forest_templates;
-    fs << "search_per_class" << (int)search_per_class;
+    fs << "descent_cost" << descent_cost << "search_per_class" << (int)search_per_class;
     fs << "depth_tolerance" << depth_tolerance << "min_window_labels" << min_window_labels;
     fs << "depth_range_tolerance" << depth_range_tolerance << "dominant_window" << dominant_window;
     fs << "group_size_ratio" << group_size_ratio;
@@ -128,6 +129,8 @@ static DetectorParams readModelParams(const FileNode& fn)
         p.group_templates = false;
     if (fn["min_forest_templates"].empty())
         p.min_forest_templates = 0; // written before it: every group decided by the sample
+    if (fn["descent_cost"].empty())
+        p.descent_cost = 0.f; // written before it: the sample counted the pairs only
     return p;
 }
 

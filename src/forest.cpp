@@ -777,13 +777,15 @@ public:
     }
 
     bool leaf(int tree, const uchar* values, const int*& ids, int& count, int* rejected_depth,
-              bool root_passed) const CV_OVERRIDE
+              bool root_passed, int* nodes) const CV_OVERRIDE
     {
         const Tree& t = trees_[tree];
         int depth = -1, visited = 0;
         const int ni = descend(t, RowTests(values), depth, visited, root_passed);
         if (rejected_depth)
             *rejected_depth = ni < 0 ? depth : -1;
+        if (nodes)
+            *nodes = visited;
         if (ni < 0)
             return false;
         ids = &t.leaf_ids[t.nodes[ni].leaf_begin];

@@ -60,6 +60,8 @@ void checkDetectorParams(const DetectorParams& p)
                "max_survivors x (T / location step)^2 matches per position)");
     CV_Check(p.exhaustive_ratio, finite(p.exhaustive_ratio),
              "DetectorParams: exhaustive_ratio must be finite (negative: never exhaustive)");
+    CV_Check(p.descent_cost, finite(p.descent_cost) && p.descent_cost >= 0.f,
+             "DetectorParams: descent_cost must be finite and not negative");
     CV_CheckGE(p.min_forest_templates, 0,
                "DetectorParams: min_forest_templates must not be negative");
     CV_CheckGE(p.depth_samples, 0, "DetectorParams: depth_samples must not be negative");

@@ -70,20 +70,35 @@ struct RowOutput
     MatchCounters counters;
 };
 
-// The sample's limits: a group leaves the scan (exhaustive search) once its pairs on the
-// sample, extrapolated by `scale[g]`, pass `limit[g]` (exhaustive_ratio x templates x positions).
-// Group g descends every stride[g]-th location of the sample (in row-major order), and its
-// scale counts the frame's locations per location descended.
+// The sample's limits: a group leaves the scan (exhaustive search) once its cost on the sample,
+// in validated pairs (its pairs plus descent_cost per tree node visited), extrapolated by
+// `scale[g]`, passes `limit[g]` (exhaustive_ratio x templates x positions). Group g descends
+// every stride[g]-th location of the sample (in row-major order), and its scale counts the
+// frame's locations per location descended.
+struct SampleCount
+{
+    int64 pairs = 0, nodes = 0;
+    SampleCount& operator+=(const SampleCount& o)
+    {
+        pairs += o.pairs;
+        nodes += o.nodes;
+        return *this;
+    }
+};
+
 struct SampleLimits
 {
-    std::vector<int64> pairs;      //!< [group]: counted on the sample rows scanned before
-    std::vector<double> limit;     //!< [group]
-    std::vector<double> scale;     //!< [group]
-    std::vector<int> stride;       //!< [group]
+    std::vector<SampleCount> count; //!< [group]: counted on the sample rows scanned before
+    std::vector<double> limit;      //!< [group]
+    std::vector<double> scale;      //!< [group]
+    std::vector<int> stride;        //!< [group]
+    double node_cost;               //!< DetectorParams::descent_cost
 
-    bool passed(int g, int64 more) const
+    bool passed(int g, const SampleCount& more) const
     {
-        return (double)(pairs[g] + more) * scale[g] > limit[g];
+        const double pairs = (double)(count[g].pairs + more.pairs);
+        const double nodes = (double)(count[g].nodes + more.nodes);
+        return (pairs + node_cost * nodes) * scale[g] > limit[g];
     }
 };
 
@@ -399,9 +414,10 @@ static const uchar* locationWindow(const ScanContext& ctx, int gi, int c, ptrdif
 
 // Group gi's verdict on location (c, r): out of its depth range, a flat window, or its forest
 // (every tree). An accepting group's leaves go to s.leaves. `row_tested`: the flat window and the
-// roots were tested on the whole row (rowTests, in s); else they are tested here.
+// roots were tested on the whole row (rowTests, in s); else they are tested here. `nodes`, if
+// given, gains the tree nodes visited (the descents' cost, counted by the sample).
 static short visitGroup(const ScanContext& ctx, int gi, int c, int r, int W, ScanScratch& s,
-                        bool row_tested)
+                        bool row_tested, int64* nodes = 0)
 {
     const ScenePyramid& scene = *ctx.scene;
     const SearchGroup& grp = *ctx.groups[gi];
@@ -427,7 +443,7 @@ static short visitGroup(const ScanContext& ctx, int gi, int c, int r, int W, Sca
     for (int t = 0; t < ctx.trees[gi]; ++t)
     {
         const int* ids = 0;
-        int n = 0, depth = 0; // a root rejector that fails rejects at depth 0
+        int n = 0, depth = 0, visited = 0; // a root rejector that fails rejects at depth 0
         const bool root_tested = row_tested && ctx.roots[gi][t].min_accept > 0;
         const bool root_ok = !row_tested
             || s.root_ok[((size_t)gi * ctx.max_trees + t) * W + c] != 0;
@@ -436,7 +452,11 @@ static short visitGroup(const ScanContext& ctx, int gi, int c, int r, int W, Sca
             values = locationWindow(ctx, gi, c, offset, W, s);
             gathered = true;
         }
-        if (root_ok && grp.forest->leaf(t, values, ids, n, &depth, root_tested))
+        const bool reached = root_ok
+            && grp.forest->leaf(t, values, ids, n, &depth, root_tested, &visited);
+        if (nodes)
+            *nodes += visited;
+        if (reached)
             s.leaves.push_back(std::make_pair(ids, n));
         else
         {
@@ -617,11 +637,12 @@ static int unionSize(const ScanContext& ctx, int gi, ScanScratch& s)
     return n;
 }
 
-// Sample row i (row r of locations): the pairs each active group lets through at the sample's
-// locations it descends (every stride-th, row-major over the sample), until the group passes its
-// limit (the count only grows, so it is searched exhaustively whatever the rest holds).
+// Sample row i (row r of locations): the cost of each active group at the sample's locations it
+// descends (every stride-th, row-major over the sample: the nodes visited and the pairs let
+// through), until the group passes its limit (the cost only grows, so it is searched
+// exhaustively whatever the rest holds).
 static void sampleRow(const ScanContext& ctx, int i, int r, int W, const SampleLimits& limits,
-                      ScanScratch& s, int64* pairs)
+                      ScanScratch& s, SampleCount* count)
 {
     for (int g = 0; g < (int)ctx.groups.size(); ++g)
     {
@@ -631,10 +652,9 @@ static void sampleRow(const ScanContext& ctx, int i, int r, int W, const SampleL
         const int64 first = (int64)i * W;
         for (int c = (int)((stride - first % stride) % stride); c < W; c += stride)
         {
-            if (visitGroup(ctx, g, c, r, W, s, false) != ACCEPTED)
-                continue;
-            pairs[g] += unionSize(ctx, g, s);
-            if (limits.passed(g, pairs[g]))
+            if (visitGroup(ctx, g, c, r, W, s, false, &count[g].nodes) == ACCEPTED)
+                count[g].pairs += unionSize(ctx, g, s);
+            if (limits.passed(g, count[g]))
                 break;
         }
     }
@@ -648,21 +668,21 @@ static void sampleGroups(ScanContext& ctx, const std::vector<int>& sample, int W
 {
     const int NG = (int)ctx.groups.size();
     const int batch = std::max(1, getNumThreads());
-    std::vector<int64> pairs((size_t)batch * NG);
+    std::vector<SampleCount> count((size_t)batch * NG);
     for (int b = 0; b < (int)sample.size(); b += batch)
     {
         const int n = std::min((int)sample.size() - b, batch);
-        std::fill(pairs.begin(), pairs.end(), (int64)0);
+        std::fill(count.begin(), count.end(), SampleCount());
         parallel_for_(Range(0, n), [&](const Range& range) {
             ScanScratch s = scanScratch(ctx, W);
             for (int k = range.start; k < range.end; ++k)
-                sampleRow(ctx, b + k, sample[b + k], W, limits, s, &pairs[(size_t)k * NG]);
+                sampleRow(ctx, b + k, sample[b + k], W, limits, s, &count[(size_t)k * NG]);
         });
         for (int g = 0; g < NG; ++g)
         {
             for (int k = 0; k < n; ++k)
-                limits.pairs[g] += pairs[(size_t)k * NG + g];
-            if (ctx.active[g] && limits.passed(g, 0))
+                limits.count[g] += count[(size_t)k * NG + g];
+            if (ctx.active[g] && limits.passed(g, SampleCount()))
                 ctx.active[g] = 0;
         }
     }
@@ -735,7 +755,8 @@ void scanLocations(const SearchIndex& index, const ScenePyramid& scene,
     if (!sample.empty() && std::find(ctx.active.begin(), ctx.active.end(), 1) != ctx.active.end())
     {
         SampleLimits limits;
-        limits.pairs.assign(NG, 0);
+        limits.count.assign(NG, SampleCount());
+        limits.node_cost = params.descent_cost;
         limits.limit.resize(NG);
         limits.scale.resize(NG);
         limits.stride.resize(NG);

@@ -173,7 +173,7 @@ TEST(Forestmod_Detector, forest_finds_object_and_rejects_background)
 {
     const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
     DetectorParams p;
-    p.min_forest_templates = 0; // 40 templates: the forest path, which is tested here
+    p.exhaustive_ratio = -1.f; // the forest path in every frame, which is tested here
     cv::forestmod::Detector det(mods, Tpyr(), p);
     std::vector<float> angles;
     addObjectTemplates(det, 40, "L", &angles);
@@ -206,6 +206,62 @@ TEST(Forestmod_Detector, forest_finds_object_and_rejects_background)
     std::cout << "[ INFO    ] rejected before validation: " << 100 * rejected / trials << " %"
               << std::endl;
     EXPECT_GE(rejected / trials, 0.5);
+}
+
+// The sample counts the trees' descents (DetectorParams::descent_cost): without them the 40
+// templates' group stays on the forest path on clutter (its leaves let few pairs through); with
+// a high cost per node the same sample sends it to the exhaustive search, whose matches are then
+// those of exhaustive_ratio 0.
+TEST(Forestmod_Detector, the_sample_counts_the_descents)
+{
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
+    DetectorParams p;
+    p.min_forest_templates = 0; // 40 templates: decided by the sample
+    p.descent_cost = 0.f;
+    cv::forestmod::Detector det(mods, Tpyr(), p);
+    addObjectTemplates(det, 40, "L", 0);
+    det.train();
+    DetectorParams costly = p, exhaustive = p;
+    costly.descent_cost = 100.f;
+    exhaustive.exhaustive_ratio = 0.f;
+    RNG rng(3);
+    int on_forest = 0;
+    const int trials = 4;
+    for (int k = 0; k < trials; ++k)
+    {
+        Mat scene = clutter(Size(640, 480), rng);
+        drawObject(scene, 0, Point2f(rng.uniform(150.f, 490.f), rng.uniform(130.f, 350.f)),
+                   rng.uniform(-35.f, 35.f), 1.0f);
+        const std::vector<Mat> src(2, scene);
+        std::vector<linemod::Match> a, b, c;
+        DetectionStats st, st_costly; // match() adds to the counters
+        det.setParams(p);
+        det.match(src, 80.f, a, std::vector<String>(), noArray(), std::vector<Mat>(), &st);
+        on_forest += st.validated > 0;
+        det.setParams(costly);
+        det.match(src, 80.f, b, std::vector<String>(), noArray(), std::vector<Mat>(),
+                  &st_costly);
+        EXPECT_EQ(0, st_costly.validated) << "frame " << k << ": the descents send the group away";
+        det.setParams(exhaustive);
+        det.match(src, 80.f, c);
+        expectSameMatches(c, b, "descent_cost 100 against exhaustive_ratio 0");
+        EXPECT_FALSE(b.empty());
+    }
+    EXPECT_EQ(trials, on_forest) << "without the descents' cost the forest path is kept";
+    // the parameter: written and read back, refused when negative or not finite
+    FileStorage fs(".yml", FileStorage::WRITE | FileStorage::MEMORY);
+    costly.descent_cost = 3.5f;
+    fs << "p" << "{";
+    costly.write(fs);
+    fs << "}";
+    FileStorage in(fs.releaseAndGetString(), FileStorage::READ | FileStorage::MEMORY);
+    DetectorParams back;
+    back.read(in["p"]);
+    EXPECT_EQ(3.5f, back.descent_cost);
+    costly.descent_cost = -1.f;
+    EXPECT_THROW(det.setParams(costly), cv::Exception);
+    costly.descent_cost = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_THROW(det.setParams(costly), cv::Exception);
 }
 
 // setParams() keeps the trained forests when only match()'s parameters change (a loaded model

@@ -226,8 +226,8 @@ static ViewSampler::Params sixApeViews()
 // drawn grey, colourless as the can) on the shipped real LM-O frames: with the default
 // min_forest_templates its group is searched exhaustively without a sample, so match() returns
 // what the exhaustive search returns (exhaustive_ratio 0); the forest path, asked for with
-// min_forest_templates 0, keeps other candidates on these frames (its rejectors and leaves are
-// made from a few renderings).
+// exhaustive_ratio -1, keeps other candidates on these frames (its rejectors and leaves are made
+// from a few renderings).
 TEST(Forestmod_Detector, small_models_match_as_the_exhaustive_search)
 {
     Mesh ape = Mesh::load(meshPath(1));
@@ -250,7 +250,7 @@ TEST(Forestmod_Detector, small_models_match_as_the_exhaustive_search)
     const DetectorParams defaults = det.getParams();
     DetectorParams exhaustive = defaults, forest = defaults;
     exhaustive.exhaustive_ratio = 0.f;
-    forest.min_forest_templates = 0;
+    forest.exhaustive_ratio = -1.f;
     int differ = 0, matched = 0;
     for (const Mat& frame : backgrounds())
     {
@@ -302,7 +302,7 @@ TEST(Forestmod_Detector, depth_range_and_flat_window_rejection)
     DetectorParams p;
     p.depth_samples = 16;     // the depth range comes from the templates' depth samples
     p.depth_range_tolerance = 0.25f; // the default
-    p.min_forest_templates = 0; // six views: the forest path, whose rejections are tested
+    p.exhaustive_ratio = -1.f; // six views: the forest path, whose rejections are tested
     cv::forestmod::Detector det(mods, T, p);
     std::vector<TemplateView> views;
     renderTemplates(ape, ViewSampler(sp), K, size, views);

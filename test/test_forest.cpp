@@ -491,7 +491,8 @@ TEST(Forestmod_TemplateForest, leaf_of_a_row_equals_query_tree)
     Mat queries;
     vconcat(uniformBackground(400, d.desc.cols, 5), realPatches(400, 6), queries);
     vconcat(queries, d.noisy.rowRange(0, 400), queries);
-    int reached[2] = { 0, 0 }, root_rejected = 0;
+    int reached[2] = { 0, 0 }, root_rejected = 0, max_nodes = 0;
+    const int max_depth = trained->statistics().max_depth;
     for (const Ptr<TemplateForest>& f : { trained, read })
         for (int t = 0; t < p.num_trees; ++t)
         {
@@ -522,10 +523,17 @@ TEST(Forestmod_TemplateForest, leaf_of_a_row_equals_query_tree)
                 for (int passed = 0; passed < 2; ++passed)
                 {
                     const int* ids = 0;
-                    int n = -1, leaf_depth = -2;
-                    const bool leaf_ok = f->leaf(t, q, ids, n, &leaf_depth, passed == 1);
+                    int n = -1, leaf_depth = -2, nodes = -1;
+                    const bool leaf_ok = f->leaf(t, q, ids, n, &leaf_depth, passed == 1,
+                                                 &nodes);
                     ASSERT_EQ(ok, leaf_ok) << "tree " << t << " query " << i;
                     ASSERT_EQ(depth, leaf_depth) << "tree " << t << " query " << i;
+                    // the nodes of the path: to the rejecting node, or to a leaf
+                    if (!ok)
+                        ASSERT_EQ(depth + 1, nodes) << "tree " << t << " query " << i;
+                    else
+                        ASSERT_TRUE(nodes >= 1 && nodes <= max_depth + 1) << nodes;
+                    max_nodes = std::max(max_nodes, nodes);
                     if (ok)
                     {
                         ASSERT_EQ(expected, std::vector<int>(ids, ids + n)) << "query " << i;
@@ -540,6 +548,7 @@ TEST(Forestmod_TemplateForest, leaf_of_a_row_equals_query_tree)
     EXPECT_GT(root_rejected, 100);
     EXPECT_GT(reached[0], 10);
     EXPECT_GT(reached[1], 100);
+    EXPECT_GT(max_nodes, 2) << "descents deeper than the root's children";
 }
 
 TEST(Forestmod_TemplateForest, refuses_bad_files)

@@ -70,6 +70,7 @@ struct EvalOptions
     int depth_samples, depth_tolerance, max_survivors, any_tree;
     float exhaustive_ratio;      //!< DetectorParams::exhaustive_ratio when has_exhaustive_ratio
     bool has_exhaustive_ratio;
+    float descent_cost;          //!< DetectorParams::descent_cost when >= 0
     int min_forest_templates;    //!< DetectorParams::min_forest_templates when >= 0
     bool search_per_class;       //!< DetectorParams::search_per_class
     float depth_range_tolerance; //!< DetectorParams::depth_range_tolerance when has_...

@@ -85,6 +85,8 @@ static const char* const keys
       "{max_survivors   | -1       | experiment: DetectorParams::max_survivors (-1: default) }"
       "{exhaustive_ratio |         | experiment: DetectorParams::exhaustive_ratio (empty: default; "
       "negative: never exhaustive, 0: always) }"
+      "{descent_cost    | -1       | experiment: DetectorParams::descent_cost (validated pairs "
+      "per tree node the sample visits; -1: default) }"
       "{min_forest_templates | -1  | experiment: DetectorParams::min_forest_templates (-1: "
       "default; 0: every search group decided by the sample) }"
       "{search_per_class | false   | DetectorParams::search_per_class: each class of a model "
@@ -124,7 +126,7 @@ EvalOptions::EvalOptions()
       train_threads(2), seed(1), repeat(3), force(false), dry_run(false), sweep_templates(true),
       sweep_objects(true), sweep_object(0), sweep_per_class(500), sweep_frames(5),
       depth_samples(-1), depth_tolerance(-1), max_survivors(-1), any_tree(-1),
-      exhaustive_ratio(0.f), has_exhaustive_ratio(false), min_forest_templates(-1),
+      exhaustive_ratio(0.f), has_exhaustive_ratio(false), descent_cost(-1.f), min_forest_templates(-1),
       search_per_class(false),
       depth_range_tolerance(0.f),
       has_depth_range_tolerance(false), fuzzy_margin(-1.f), leaf_samples(-1.f),
@@ -204,6 +206,8 @@ fm::DetectorParams experimentParams(const EvalOptions& opt, fm::DetectorParams p
         p.max_survivors = opt.max_survivors;
     if (opt.has_exhaustive_ratio)
         p.exhaustive_ratio = opt.exhaustive_ratio;
+    if (opt.descent_cost >= 0.f)
+        p.descent_cost = opt.descent_cost;
     if (opt.min_forest_templates >= 0)
         p.min_forest_templates = opt.min_forest_templates;
     p.search_per_class = opt.search_per_class;
@@ -291,6 +295,7 @@ int parseOptions(int argc, char** argv, EvalOptions& opt)
     opt.depth_validation = parser.get<int>("depth_validation") != 0;
     opt.max_survivors = parser.get<int>("max_survivors");
     opt.min_forest_templates = parser.get<int>("min_forest_templates");
+    opt.descent_cost = parser.get<float>("descent_cost");
     opt.search_per_class = parser.get<bool>("search_per_class");
     opt.has_exhaustive_ratio = !parser.get<std::string>("exhaustive_ratio").empty();
     if (opt.has_exhaustive_ratio)

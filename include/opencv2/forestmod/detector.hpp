@@ -89,19 +89,26 @@ struct CV_EXPORTS_W_SIMPLE DetectorParams
     plain and the verified projection recall for a quarter more match() (doc/detector.md,
     "Validation"). */
     CV_PROP_RW int max_survivors;
-    /** Bounded worst case: in a frame where a search group's forest lets through more
-    (location, candidate) pairs than this times (its asked-for templates x the positions of the
-    coarsest level's T grid), estimated on every 8th row of locations, the group leaves the scan
+    /** Bounded worst case: in a frame where a search group's forest costs more (the (location,
+    candidate) pairs it lets through and its descents, descent_cost) than this times (its
+    asked-for templates x the positions of the coarsest level's T grid) validated pairs,
+    estimated on every 8th row of locations, the group leaves the scan
     and its templates are searched exhaustively as cv::linemod does (linearized memories, one
     SIMD add per feature over all positions of the T grid); each position keeps its best
     max_survivors x (T / location step)^2 templates over the threshold as coarse matches, as many
     as the forest path's locations in its cell keep. A validated pair costs about as much as
     9-14 exhaustive (position, template) pairs and the location grid has 4x the positions of
-    the T grid; the traversal that makes the pairs, which the count leaves out, costs as much
-    again with many groups: default 0.01, measured on LM-O frames that the evaluation does not
-    report (doc/detector.md, "Bounded worst case"). 0: every group exhaustive (no traversal);
-    negative: never. */
+    the T grid; the trees' descents count too (descent_cost): default 0.01, measured on LM-O
+    frames that the evaluation does not report (doc/detector.md, "Bounded worst case"). 0: every
+    group exhaustive (no traversal); negative: never. */
     CV_PROP_RW float exhaustive_ratio;
+    /** The sample's cost of a descent, in validated pairs per tree node visited: a group's
+    sample counts its pairs plus this times the nodes its trees visit (the rejected locations'
+    too), so that a forest whose descents cost more than the exhaustive search leaves the scan
+    although its leaves hold few candidates. A node test costs 2-4 validated pairs (70-90 ns
+    against 16-40 ns; doc/experiments.md, "The trees' descents counted in the sample"). Default
+    2. 0: the pairs only. Model files written without it load with 0 (they match as they did). */
+    CV_PROP_RW float descent_cost;
     /** With a positive exhaustive_ratio, a search group of at most this many asked-for templates
     is searched exhaustively without sampling its forest: that search costs little, and a forest
     of a few views, its rejectors made from renderings, rejects the object itself on real frames
@@ -429,7 +436,9 @@ public:
                        const std::vector<String>& class_ids = std::vector<String>(),
                        OutputArrayOfArrays quantized_images = noArray(),
                        const std::vector<Mat>& masks = std::vector<Mat>()) const;
-    /** match() with statistics (timing, locations rejected per depth, ...). */
+    /** match() with statistics (timing, locations rejected per depth, ...), added to *stats: the
+    counters and times of several calls sum up (DetectionStats::reset() between calls for one
+    call's), the rejection map is the last call's. */
     void match(const std::vector<Mat>& sources, float threshold,
                std::vector<cv::linemod::Match>& matches, const std::vector<String>& class_ids,
                OutputArrayOfArrays quantized_images, const std::vector<Mat>& masks,

@@ -205,9 +205,12 @@ public:
     shared by the trees); @p ids and @p count receive the reached leaf's templates (ascending,
     valid while the forest is unchanged), or false when a rejector of this tree sends the location
     out. @p root_passed: the caller has tested rootRejector() on this location already (it
-    passed). No check of @p tree: 0 <= tree < getParams().num_trees is the caller's. */
+    passed). @p nodes, if given, receives the nodes visited (1 + the depth of the leaf reached or
+    of the rejecting node: the descent's cost, which the scan's sample counts). No check of
+    @p tree: 0 <= tree < getParams().num_trees is the caller's. */
     virtual bool leaf(int tree, const uchar* values, const int*& ids, int& count,
-                      int* rejected_depth = 0, bool root_passed = false) const = 0;
+                      int* rejected_depth = 0, bool root_passed = false,
+                      int* nodes = 0) const = 0;
     /** @brief The background rejector of tree @p tree's root, which every location meets first
     (the scan tests it on a whole row of locations at once, vectorised): its dimensions, for each
     the accepted values (bits 0..7: labels, bit 8: the value 0) and the minimum number of accepted
