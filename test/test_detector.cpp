@@ -249,15 +249,8 @@ TEST(Forestmod_Detector, the_sample_counts_the_descents)
     }
     EXPECT_EQ(trials, on_forest) << "without the descents' cost the forest path is kept";
     // the parameter: written and read back, refused when negative or not finite
-    FileStorage fs(".yml", FileStorage::WRITE | FileStorage::MEMORY);
     costly.descent_cost = 3.5f;
-    fs << "p" << "{";
-    costly.write(fs);
-    fs << "}";
-    FileStorage in(fs.releaseAndGetString(), FileStorage::READ | FileStorage::MEMORY);
-    DetectorParams back;
-    back.read(in["p"]);
-    EXPECT_EQ(3.5f, back.descent_cost);
+    EXPECT_EQ(3.5f, writtenAndRead(costly).descent_cost);
     costly.descent_cost = -1.f;
     EXPECT_THROW(det.setParams(costly), cv::Exception);
     costly.descent_cost = std::numeric_limits<float>::quiet_NaN();
@@ -787,14 +780,7 @@ TEST(Forestmod_Detector, search_per_class_gives_each_class_its_own_matches)
     // the parameter is saved and read back
     DetectorParams q = p;
     q.search_per_class = true;
-    FileStorage out(".yml", FileStorage::WRITE | FileStorage::MEMORY);
-    out << "params" << "{";
-    q.write(out);
-    out << "}";
-    FileStorage in(out.releaseAndGetString(), FileStorage::READ | FileStorage::MEMORY);
-    DetectorParams back;
-    back.read(in["params"]);
-    EXPECT_TRUE(back.search_per_class);
+    EXPECT_TRUE(writtenAndRead(q).search_per_class);
     EXPECT_FALSE(DetectorParams().search_per_class);
 }
 

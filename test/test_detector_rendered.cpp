@@ -277,15 +277,8 @@ TEST(Forestmod_Detector, small_models_match_as_the_exhaustive_search)
     EXPECT_GE(differ, 1) << "the forest path matched as the exhaustive search on every frame";
     // the parameter: written and read back, refused below 0 (model files written without it
     // load with 0: Forestmod_Golden's files)
-    FileStorage fs(".yml", FileStorage::WRITE | FileStorage::MEMORY);
     forest.min_forest_templates = 7;
-    fs << "p" << "{";
-    forest.write(fs);
-    fs << "}";
-    FileStorage in(fs.releaseAndGetString(), FileStorage::READ | FileStorage::MEMORY);
-    DetectorParams back;
-    back.read(in["p"]);
-    EXPECT_EQ(7, back.min_forest_templates);
+    EXPECT_EQ(7, writtenAndRead(forest).min_forest_templates);
     forest.min_forest_templates = -1;
     EXPECT_THROW(det.setParams(forest), cv::Exception);
 }

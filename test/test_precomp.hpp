@@ -44,6 +44,20 @@ inline void expectSameMatches(const std::vector<cv::linemod::Match>& a,
     }
 }
 
+/** The parameters written with DetectorParams::write into an in-memory YAML map and read back
+(the round trip of a model file's "params"). */
+inline cv::forestmod::DetectorParams writtenAndRead(const cv::forestmod::DetectorParams& p)
+{
+    cv::FileStorage out(".yml", cv::FileStorage::WRITE | cv::FileStorage::MEMORY);
+    out << "params" << "{";
+    p.write(out);
+    out << "}";
+    cv::FileStorage in(out.releaseAndGetString(), cv::FileStorage::READ | cv::FileStorage::MEMORY);
+    cv::forestmod::DetectorParams back;
+    back.read(in["params"]);
+    return back;
+}
+
 /** A closed cube of side 2 h centred at the origin, its faces turning counter-clockwise seen from
 outside (two triangles per side), grey, with normals. */
 inline Mesh closedCube(float h)
