@@ -211,39 +211,78 @@ void LinearMemories::featureOffsets(const TemplatePyramid& tp, int level_index, 
     begin[M] = static_cast<int>(offsets.size());
 }
 
-bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
-                int num_modalities, int ox, int oy, int* scores)
+// scoreLocal's raw sums into acc[256]; false when a read would leave the memories.
+static bool localSums(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                      int num_modalities, int ox, int oy, ushort* acc)
 {
     const int T = lm.T, M = num_modalities;
-    if (ox < 0 || oy < 0 || ox % T || oy % T || numFeatures(tp, level_index, M) > kMaxSum16)
+    const int n = numFeatures(tp, level_index, M);
+    if (ox < 0 || oy < 0 || ox % T || oy % T || n > kMaxSum16 || lm.data.empty())
         return false;
     const int cx = ox / T, cy = oy / T;
     // every feature's 16 x 16 block of cells, checked before anything is added (x / T from the
-    // memories' table: no division per feature)
-    static thread_local std::vector<const uchar*> blocks;
-    blocks.clear();
+    // memories' table: no division per feature); the blocks on the stack for the usual
+    // templates (a thread_local vector, read through the TLS look-up, had cost a call per
+    // feature in a shared library)
+    const int kOnStack = 512;
+    const uchar* on_stack[kOnStack];
+    static thread_local std::vector<const uchar*> on_heap;
+    const uchar** blocks = on_stack;
+    if (n > kOnStack)
+    {
+        on_heap.resize(n);
+        blocks = &on_heap[0];
+    }
     const int n_div = static_cast<int>(lm.div_T.size());
+    const ushort* div_T = n_div ? &lm.div_T[0] : 0;
+    const int last_qx = lm.stride - 16 - cx, last_qy = lm.rows - 16 - cy;
+    const size_t plane = (size_t)lm.stride * lm.rows;
+    const uchar* base = &lm.data[0] + (size_t)cy * lm.stride + cx;
+    int k = 0;
     for (int m = 0; m < M; ++m)
     {
-        const cv::linemod::Template& t = tp[level_index * M + m];
-        for (size_t i = 0; i < t.features.size(); ++i)
+        const std::vector<cv::linemod::Feature>& features = tp[level_index * M + m].features;
+        const cv::linemod::Feature* f = features.empty() ? 0 : &features[0];
+        const int nf = static_cast<int>(features.size());
+        for (int i = 0; i < nf; ++i)
         {
-            const cv::linemod::Feature& f = t.features[i];
-            if (f.x < 0 || f.y < 0 || f.x >= n_div || f.y >= n_div)
+            const int x = f[i].x, y = f[i].y;
+            if ((unsigned)x >= (unsigned)n_div || (unsigned)y >= (unsigned)n_div)
                 return false;
-            const int qx = lm.div_T[f.x], qy = lm.div_T[f.y];
-            if (cx + qx + 16 > lm.stride || cy + qy + 16 > lm.rows)
+            const int qx = div_T[x], qy = div_T[y];
+            if (qx > last_qx || qy > last_qy)
                 return false;
-            blocks.push_back(lm.memory(m, f.label, f.x - qx * T, f.y - qy * T)
-                             + (size_t)(cy + qy) * lm.stride + cx + qx);
+            blocks[k++] = base + (size_t)linearMemory(m, f[i].label, x - qx * T, y - qy * T, T)
+                                     * plane
+                          + (size_t)qy * lm.stride + qx;
         }
     }
-    ushort acc[256];
     std::fill(acc, acc + 256, (ushort)0);
-    if (!blocks.empty())
-        addBlocks16(acc, &blocks[0], static_cast<int>(blocks.size()), lm.stride);
-    for (int k = 0; k < 256; ++k)
-        scores[k] = acc[k];
+    if (k > 0)
+        addBlocks16(acc, blocks, k, lm.stride);
+    return true;
+}
+
+bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                int num_modalities, int ox, int oy, int* scores)
+{
+    ushort acc[256];
+    if (!localSums(lm, tp, level_index, num_modalities, ox, oy, acc))
+        return false;
+    for (int j = 0; j < 256; ++j)
+        scores[j] = acc[j];
+    return true;
+}
+
+bool bestLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+               int num_modalities, int ox, int oy, int& best, int& index)
+{
+    ushort acc[256];
+    if (!localSums(lm, tp, level_index, num_modalities, ox, oy, acc))
+        return false;
+    ushort b = 0;
+    index = firstMax256(acc, b);
+    best = b;
     return true;
 }
 

@@ -109,6 +109,11 @@ multiples of T), scores[r * 16 + c]; the same sums as similarityAll there. Retur
 scores nothing) when a read would leave the memories: the caller then scores in place. */
 CV_EXPORTS bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
                            int num_modalities, int ox, int oy, int* scores);
+/** scoreLocal's best position only: `best` = the largest of the 256 raw scores and `index` =
+r * 16 + c of the first position (row by row) that reaches it, -1 when every score is 0 (the
+refinement's choice, without writing the 256 scores out). False as scoreLocal. */
+CV_EXPORTS bool bestLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
+                          int num_modalities, int ox, int oy, int& best, int& index);
 
 } // namespace detail
 } // namespace forestmod

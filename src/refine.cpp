@@ -19,7 +19,7 @@ namespace detail {
 // The best position of a template in the 16 x 16 cells of T pixels around (x, y) of level l; the
 // raw score and the feature count at that position.
 // With the level's linearized memories (`linear`, may be null) the 256 scores are vectorised
-// (linear_memories.hpp, scoreLocal), else read in place.
+// (linear_memories.hpp, bestLocal), else read in place.
 static Point bestPosition(const LevelMaps& lm, const TemplatePyramid& tp, int l, int x, int y,
                           int& best, int& num_features, const LinearMemories* linear)
 {
@@ -28,24 +28,29 @@ static Point bestPosition(const LevelMaps& lm, const TemplatePyramid& tp, int l,
     best = 0;
     num_features = 0;
     const int ox = (x / T - 8) * T, oy = (y / T - 8) * T;
-    int local[256];
-    const bool vectorised = linear
-        && scoreLocal(*linear, tp, l, lm.modalities(), ox, oy, local);
-    if (vectorised)
+    int index = -1;
+    if (linear && bestLocal(*linear, tp, l, lm.modalities(), ox, oy, best, index))
+    {
         num_features = numFeatures(tp, l, lm.modalities());
-    for (int r = 0; r < 16; ++r)
-        for (int c = 0; c < 16; ++c)
+        if (index >= 0)
         {
-            const int s = vectorised ? local[r * 16 + c]
-                                     : similarityAll(lm, tp, l, Point(ox + c * T, oy + r * T),
-                                                     &num_features);
-            if (s > best)
-            {
-                best = s;
-                best_r = r;
-                best_c = c;
-            }
+            best_r = index / 16;
+            best_c = index % 16;
         }
+    }
+    else
+        for (int r = 0; r < 16; ++r)
+            for (int c = 0; c < 16; ++c)
+            {
+                const int s = similarityAll(lm, tp, l, Point(ox + c * T, oy + r * T),
+                                            &num_features);
+                if (s > best)
+                {
+                    best = s;
+                    best_r = r;
+                    best_c = c;
+                }
+            }
     const int offset = matchOffset(T);
     return Point((x / T - 8 + best_c) * T + offset, (y / T - 8 + best_r) * T + offset);
 }

@@ -33,6 +33,15 @@ void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride)
     FORESTMOD_DISPATCH(addBlocks16(acc, src, n, stride));
 }
 
+int firstMax256(const ushort* v, ushort& best)
+{
+#ifdef FORESTMOD_HAVE_AVX2
+    if (useAVX2())
+        return opt_AVX2::firstMax256(v, best);
+#endif
+    return cpu_baseline::firstMax256(v, best);
+}
+
 void countLabels8(uchar* dst, const uchar* src, int n)
 {
     FORESTMOD_DISPATCH(countLabels8(dst, src, n));

@@ -29,6 +29,9 @@ CV_EXPORTS void sumRuns16(ushort* out, const uchar* base, const int* off, int n_
 /** acc[r * 16 + c] += sum over k of src[k][r * stride + c]: n 16 x 16 blocks of responses
 (values <= 4; summed in 8 bits, 63 blocks at a time, in registers). */
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
+/** The index of the first of v[0 .. 256) equal to their largest value, stored in `best`; -1
+when every value is 0. */
+CV_EXPORTS int firstMax256(const ushort* v, ushort& best);
 /** dst[0 .. n) += 1 where src != 0, 8-bit with wrap-around (the caller keeps the counts under
 256): the scan's flat-window test over a row of locations. */
 CV_EXPORTS void countLabels8(uchar* dst, const uchar* src, int n);

@@ -24,6 +24,7 @@ namespace FORESTMOD_KERNELS_NAMESPACE {
 
 void sumRuns16(ushort* out, const uchar* base, const int* off, int n_off, int n);
 void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride);
+int firstMax256(const ushort* v, ushort& best);
 void countLabels8(uchar* dst, const uchar* src, int n);
 void countAccepted8(uchar* dst, const uchar* src, int n, uchar labels, uchar zero_ok);
 int sumRunsPassing16(ushort* sums, const uchar* base, const int* off, int n_off, int n,
@@ -97,6 +98,35 @@ void addBlocks16(ushort* acc, const uchar* const* src, int n, size_t stride)
                     acc[r * 16 + c] = (ushort)(acc[r * 16 + c] + src[k][r * stride + c]);
 #endif
     }
+}
+
+int firstMax256(const ushort* v, ushort& best)
+{
+    ushort b = 0;
+    int k = 0;
+#if CV_SIMD
+    const int w = v_uint16::nlanes;
+    v_uint16 m = vx_load(v);
+    for (k = w; k < 256; k += w)
+        m = v_max(m, vx_load(v + k));
+    b = v_reduce_max(m);
+    best = b;
+    if (b == 0)
+        return -1;
+    const v_uint16 vb = vx_setall_u16(b);
+    for (k = 0; k < 256; k += w) // the first vector holding the largest value
+        if (v_check_any(vx_load(v + k) == vb))
+            break;
+#else
+    for (int j = 0; j < 256; ++j)
+        b = v[j] > b ? v[j] : b;
+    best = b;
+    if (b == 0)
+        return -1;
+#endif
+    while (v[k] != b)
+        ++k;
+    return k;
 }
 
 void countLabels8(uchar* dst, const uchar* src, int n)

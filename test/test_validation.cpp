@@ -6,7 +6,7 @@
 // the forest path's memories on its location grid (scoreAt) at any top-left, in or partly out of
 // the image, and a template's run of neighbouring cells scored at once (sumRuns16),
 // the exhaustive path's linearized memories (scoreEverywhere) at every position of the T grid and
-// the refinement's local search (scoreLocal), with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included; the
+// the refinement's local search (scoreLocal, its best position bestLocal), with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included; the
 // linearized memories built only where the scene pyramid's tiles are valid.
 
 #include "test_precomp.hpp"
@@ -101,6 +101,12 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
                 for (int k = 0; k < 256; ++k)
                     ASSERT_EQ(similarityAll(level, tp, 0, Point(ox + k % 16 * 8, oy + k / 16 * 8)),
                               local[k]) << size << " f " << f << " local " << k;
+                // the refinement's choice: the first position (row by row) of the largest sum
+                const int* top = std::max_element(local, local + 256);
+                int best = -1, index = -2;
+                ASSERT_TRUE(bestLocal(lm, tp, 0, 2, ox, oy, best, index));
+                EXPECT_EQ(*top, best) << size << " f " << f;
+                EXPECT_EQ(*top > 0 ? (int)(top - local) : -1, index) << size << " f " << f;
                 ++compared;
             }
             else
@@ -297,6 +303,27 @@ TEST(Forestmod_Validation, instruction_sets_give_the_same_scores)
         for (int k = 0; k < 256; ++k)
             ASSERT_EQ(local[0][k], local[1][k]) << "f " << f << " local " << k;
     }
+    // the local search's first largest sum: ties, the last lane, all zero
+    for (int pass = 0; pass < 2; ++pass)
+    {
+        setUseOptimized(pass == 0);
+        ushort v[256], best = 7;
+        std::fill(v, v + 256, (ushort)0);
+        EXPECT_EQ(-1, firstMax256(v, best));
+        EXPECT_EQ(0, best);
+        v[255] = 1;
+        EXPECT_EQ(255, firstMax256(v, best));
+        EXPECT_EQ(1, best);
+        for (int k = 0; k < 256; ++k)
+            v[k] = (ushort)rng.uniform(0, 500);
+        v[77] = v[200] = v[201] = 600;
+        EXPECT_EQ(77, firstMax256(v, best)) << "pass " << pass;
+        EXPECT_EQ(600, best);
+        v[0] = 60000;
+        EXPECT_EQ(0, firstMax256(v, best)) << "pass " << pass;
+        EXPECT_EQ(60000, best);
+    }
+    setUseOptimized(was_optimized);
     // the scan's row kernels, on every value a label plane holds, odd lengths
     std::vector<uchar> src(1001), out[2][2];
     for (size_t k = 0; k < src.size(); ++k)
