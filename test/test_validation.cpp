@@ -76,7 +76,8 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
         std::vector<ushort> scores;
         std::vector<int> raw;
         int compared = 0, nonzero = 0;
-        for (int f : { 8, 31, 40, 100 }) // 2 f features: 8-bit runs, then 16-bit sums
+        // 2 f features: 8-bit runs, then 16-bit sums; 600 past the local search's blocks on the stack
+        for (int f : { 8, 31, 40, 100, 300 })
         {
             const TemplatePyramid tp = randomTemplate(rng, rng.uniform(20, 49),
                                                       rng.uniform(20, 49), f);
