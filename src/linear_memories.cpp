@@ -211,12 +211,13 @@ void LinearMemories::featureOffsets(const TemplatePyramid& tp, int level_index, 
     begin[M] = static_cast<int>(offsets.size());
 }
 
-// scoreLocal's raw sums into acc[256]; false when a read would leave the memories.
+// scoreLocal's raw sums into acc[256] and the template's feature count at the level into n;
+// false when a read would leave the memories.
 static bool localSums(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
-                      int num_modalities, int ox, int oy, ushort* acc)
+                      int num_modalities, int ox, int oy, ushort* acc, int& n)
 {
     const int T = lm.T, M = num_modalities;
-    const int n = numFeatures(tp, level_index, M);
+    n = numFeatures(tp, level_index, M);
     if (ox < 0 || oy < 0 || ox % T || oy % T || n > kMaxSum16 || lm.data.empty())
         return false;
     const int cx = ox / T, cy = oy / T;
@@ -267,7 +268,8 @@ bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_i
                 int num_modalities, int ox, int oy, int* scores)
 {
     ushort acc[256];
-    if (!localSums(lm, tp, level_index, num_modalities, ox, oy, acc))
+    int n = 0;
+    if (!localSums(lm, tp, level_index, num_modalities, ox, oy, acc, n))
         return false;
     for (int j = 0; j < 256; ++j)
         scores[j] = acc[j];
@@ -275,10 +277,10 @@ bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_i
 }
 
 bool bestLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
-               int num_modalities, int ox, int oy, int& best, int& index)
+               int num_modalities, int ox, int oy, int& best, int& index, int& num_features)
 {
     ushort acc[256];
-    if (!localSums(lm, tp, level_index, num_modalities, ox, oy, acc))
+    if (!localSums(lm, tp, level_index, num_modalities, ox, oy, acc, num_features))
         return false;
     ushort b = 0;
     index = firstMax256(acc, b);

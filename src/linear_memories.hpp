@@ -111,9 +111,11 @@ CV_EXPORTS bool scoreLocal(const LinearMemories& lm, const TemplatePyramid& tp, 
                            int num_modalities, int ox, int oy, int* scores);
 /** scoreLocal's best position only: `best` = the largest of the 256 raw scores and `index` =
 r * 16 + c of the first position (row by row) that reaches it, -1 when every score is 0 (the
-refinement's choice, without writing the 256 scores out). False as scoreLocal. */
+refinement's choice, without writing the 256 scores out); `num_features` = the template's
+features at the level (the score's denominator). False as scoreLocal. */
 CV_EXPORTS bool bestLocal(const LinearMemories& lm, const TemplatePyramid& tp, int level_index,
-                          int num_modalities, int ox, int oy, int& best, int& index);
+                          int num_modalities, int ox, int oy, int& best, int& index,
+                          int& num_features);
 
 } // namespace detail
 } // namespace forestmod

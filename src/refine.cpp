@@ -29,9 +29,8 @@ static Point bestPosition(const LevelMaps& lm, const TemplatePyramid& tp, int l,
     num_features = 0;
     const int ox = (x / T - 8) * T, oy = (y / T - 8) * T;
     int index = -1;
-    if (linear && bestLocal(*linear, tp, l, lm.modalities(), ox, oy, best, index))
+    if (linear && bestLocal(*linear, tp, l, lm.modalities(), ox, oy, best, index, num_features))
     {
-        num_features = numFeatures(tp, l, lm.modalities());
         if (index >= 0)
         {
             best_r = index / 16;

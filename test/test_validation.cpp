@@ -6,8 +6,9 @@
 // the forest path's memories on its location grid (scoreAt) at any top-left, in or partly out of
 // the image, and a template's run of neighbouring cells scored at once (sumRuns16),
 // the exhaustive path's linearized memories (scoreEverywhere) at every position of the T grid and
-// the refinement's local search (scoreLocal, its best position bestLocal), with 8-bit (<= 63 features) and 16-bit sums, features on the templates' far edges included; the
-// linearized memories built only where the scene pyramid's tiles are valid.
+// the refinement's local search (scoreLocal, its best position bestLocal), with 8-bit (<= 63
+// features) and 16-bit sums, features on the templates' far edges included; the linearized
+// memories built only where the scene pyramid's tiles are valid.
 
 #include "test_precomp.hpp"
 #include "../src/validator.hpp"
@@ -76,7 +77,7 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
         std::vector<ushort> scores;
         std::vector<int> raw;
         int compared = 0, nonzero = 0;
-        // 2 f features: 8-bit runs, then 16-bit sums; 600 past the local search's blocks on the stack
+        // 2 f features: 8-bit runs, then 16-bit sums; 600: past the local search's stack array
         for (int f : { 8, 31, 40, 100, 300 })
         {
             const TemplatePyramid tp = randomTemplate(rng, rng.uniform(20, 49),
@@ -104,8 +105,9 @@ TEST(Forestmod_Validation, fast_paths_equal_linemod_similarity)
                               local[k]) << size << " f " << f << " local " << k;
                 // the refinement's choice: the first position (row by row) of the largest sum
                 const int* top = std::max_element(local, local + 256);
-                int best = -1, index = -2;
-                ASSERT_TRUE(bestLocal(lm, tp, 0, 2, ox, oy, best, index));
+                int best = -1, index = -2, num_features = 0;
+                ASSERT_TRUE(bestLocal(lm, tp, 0, 2, ox, oy, best, index, num_features));
+                EXPECT_EQ(2 * f, num_features) << size << " f " << f;
                 EXPECT_EQ(*top, best) << size << " f " << f;
                 EXPECT_EQ(*top > 0 ? (int)(top - local) : -1, index) << size << " f " << f;
                 ++compared;
