@@ -351,6 +351,30 @@ static std::vector<int> classOfRow(const DetectorView& d, const DetectorParams& 
     return class_of_row;
 }
 
+// The matches [b, e) best first by Match::operator< (similarity descending, then template id),
+// equal ones in their order (as std::stable_sort): the order sorted as 64-bit keys with the
+// indices, each match then moved once (std::sort of the matches themselves swaps their class
+// strings at every step).
+static void sortBestFirst(std::vector<Match>& matches, size_t b, size_t e)
+{
+    CV_DbgAssert(b <= e && e <= matches.size());
+    std::vector<std::pair<uint64_t, int> > keys(e - b);
+    for (size_t i = b; i < e; ++i)
+    {
+        // float -> unsigned integer of the same order, complemented: descending similarity
+        Cv32suf u;
+        u.f = matches[i].similarity;
+        const uint32_t s = u.u ^ ((u.u >> 31) ? 0xFFFFFFFFu : 0x80000000u);
+        const uint32_t t = (uint32_t)matches[i].template_id ^ 0x80000000u;
+        keys[i - b] = std::make_pair(((uint64_t)~s << 32) | t, (int)(i - b));
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<Match> sorted(keys.size());
+    for (size_t k = 0; k < keys.size(); ++k)
+        sorted[k] = std::move(matches[b + keys[k].second]);
+    std::move(sorted.begin(), sorted.end(), matches.begin() + b);
+}
+
 // 4. the finer levels' maps where the coarse matches will be refined (timed with the scene
 // pyramid), then the pyramid refinement (with the depth samples when the forest is used); the
 // matches sorted best first, repeats removed.
@@ -368,7 +392,7 @@ static void refineAndSort(const DetectorView& d, detail::ScenePyramid& scene, fl
     detail::refineMatches(scene, d.pyramids, d.impl.store, threshold, matches);
     if (!per_class)
     {
-        std::sort(matches.begin(), matches.end());
+        sortBestFirst(matches, 0, matches.size());
         matches.erase(std::unique(matches.begin(), matches.end()), matches.end());
     }
     else
@@ -379,11 +403,11 @@ static void refineAndSort(const DetectorView& d, detail::ScenePyramid& scene, fl
         {
             while (e < matches.size() && matches[e].class_id == matches[b].class_id)
                 ++e;
-            std::sort(matches.begin() + b, matches.begin() + e);
+            sortBestFirst(matches, b, e);
             sorted.insert(sorted.end(), matches.begin() + b,
                           std::unique(matches.begin() + b, matches.begin() + e));
         }
-        std::stable_sort(sorted.begin(), sorted.end());
+        sortBestFirst(sorted, 0, sorted.size());
         matches.swap(sorted);
     }
     t_valid += clock.lap();
@@ -491,7 +515,7 @@ void Detector::match(const std::vector<Mat>& sources, float threshold, std::vect
     if (iou > 0.f && iou < 1.f)
     {
         std::vector<int> leader;
-        detail::nonMaximumSuppression(matches, class_templates, iou, leader);
+        detail::nonMaximumSuppression(matches, impl_->store, iou, leader);
         detail::keepLeaders(matches, leader);
     }
     if (stats)
@@ -730,7 +754,7 @@ void Detector::detect(const std::vector<Mat>& sources, const Matx33d& K, float t
     // 5. non-maximum suppression, as match() (off: every match leads)
     std::vector<int> leader(all.size(), -1);
     if (iou > 0.f && iou < 1.f)
-        detail::nonMaximumSuppression(all, class_templates, iou, leader);
+        detail::nonMaximumSuppression(all, impl_->store, iou, leader);
     if (stats)
         stats->t_total_ms += clock.lap();
     std::vector<PoseMatch> hypotheses;

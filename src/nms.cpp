@@ -11,12 +11,6 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-Rect matchBox(const cv::linemod::Match& m, const ClassPyramids& pyramids)
-{
-    const cv::linemod::Template& t0 = pyramids.find(m.class_id)->second[m.template_id][0];
-    return Rect(m.x, m.y, std::max(1, t0.width), std::max(1, t0.height));
-}
-
 void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int>& leader)
 {
     CV_Assert(iou > 0.f && iou < 1.f);
@@ -114,11 +108,33 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
 }
 
 void nonMaximumSuppression(const std::vector<cv::linemod::Match>& matches,
-                           const ClassPyramids& pyramids, float iou, std::vector<int>& leader)
+                           const TemplateStore& store, float iou, std::vector<int>& leader)
 {
+    // the sizes of the classes met so far (a model has few): a look-up per match in the store's
+    // map, and in each template's own heap block, had cost as much as a tenth of the suppression
+    std::vector<std::pair<const String*, const std::vector<Size>*> > seen;
     std::vector<Rect> boxes(matches.size());
     for (size_t i = 0; i < matches.size(); ++i)
-        boxes[i] = matchBox(matches[i], pyramids);
+    {
+        const cv::linemod::Match& m = matches[i];
+        const std::vector<Size>* sizes = 0;
+        for (size_t c = 0; c < seen.size() && !sizes; ++c)
+            if (*seen[c].first == m.class_id)
+                sizes = seen[c].second;
+        if (!sizes)
+        {
+            sizes = store.classSizes(m.class_id);
+            if (!sizes)
+                CV_Error_(Error::StsBadArg, ("forestmod::Detector: a match of class '%s', which "
+                                             "the detector does not hold", m.class_id.c_str()));
+            seen.push_back(std::make_pair(&m.class_id, sizes));
+        }
+        if (m.template_id < 0 || m.template_id >= (int)sizes->size())
+            CV_Error_(Error::StsBadArg, ("forestmod::Detector: no template %d of class '%s'",
+                                         m.template_id, m.class_id.c_str()));
+        const Size& s = (*sizes)[m.template_id];
+        boxes[i] = Rect(m.x, m.y, std::max(1, s.width), std::max(1, s.height));
+    }
     suppressOverlaps(boxes, iou, leader);
 }
 

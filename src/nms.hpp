@@ -13,8 +13,6 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-/** The box of a match: its template's level-0 extent at the match (at least 1 x 1). */
-Rect matchBox(const cv::linemod::Match& m, const ClassPyramids& pyramids);
 
 /** Greedy non-maximum suppression of boxes sorted best first, iou in (0, 1): leader[i] = -1
 when box i is kept (no kept box before it overlaps it by more than `iou`, intersection over
@@ -22,9 +20,10 @@ union), else the index of the first kept box that does. */
 CV_EXPORTS void suppressOverlaps(const std::vector<Rect>& boxes, float iou,
                                  std::vector<int>& leader);
 
-/** suppressOverlaps() of the matches' boxes (matchBox). */
+/** suppressOverlaps() of the matches' boxes: each its template's level-0 extent at the match
+(at least 1 x 1), read from the store's flat sizes (TemplateStore::classSizes). */
 void nonMaximumSuppression(const std::vector<cv::linemod::Match>& matches,
-                           const ClassPyramids& pyramids, float iou, std::vector<int>& leader);
+                           const TemplateStore& store, float iou, std::vector<int>& leader);
 
 /** The kept matches only (leader -1), in order. */
 void keepLeaders(std::vector<cv::linemod::Match>& matches, const std::vector<int>& leader);

@@ -53,6 +53,7 @@ int TemplateStore::add(ClassPyramids& pyramids, const String& class_id, const Te
     tps.push_back(tp);
     recs.push_back(record);
     recs.back().feature_extent = featureExtents(tp);
+    sizes_[class_id].push_back(tp.empty() ? Size() : Size(tp[0].width, tp[0].height));
     return static_cast<int>(tps.size()) - 1;
 }
 
@@ -64,14 +65,25 @@ void TemplateStore::setClass(ClassPyramids& pyramids, const String& class_id,
     pyramids[class_id] = tps;
     std::vector<TemplateRecord>& recs = records_[class_id];
     recs = records;
+    std::vector<Size>& sizes = sizes_[class_id];
+    sizes.resize(tps.size());
     for (size_t k = 0; k < tps.size(); ++k)
+    {
         recs[k].feature_extent = featureExtents(tps[k]);
+        sizes[k] = tps[k].empty() ? Size() : Size(tps[k][0].width, tps[k][0].height);
+    }
 }
 
 const std::vector<TemplateRecord>* TemplateStore::classRecords(const String& class_id) const
 {
     std::map<String, std::vector<TemplateRecord> >::const_iterator it = records_.find(class_id);
     return it == records_.end() ? 0 : &it->second;
+}
+
+const std::vector<Size>* TemplateStore::classSizes(const String& class_id) const
+{
+    std::map<String, std::vector<Size> >::const_iterator it = sizes_.find(class_id);
+    return it == sizes_.end() ? 0 : &it->second;
 }
 
 const TemplateRecord* TemplateStore::find(const String& class_id, int template_id) const
@@ -95,6 +107,7 @@ void TemplateStore::clear(ClassPyramids& pyramids)
 {
     pyramids.clear();
     records_.clear();
+    sizes_.clear();
 }
 
 // LINEMOD's cropTemplates: box over the features of all levels and modalities, features

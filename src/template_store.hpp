@@ -55,6 +55,9 @@ public:
                   const std::vector<TemplateRecord>& records);
     /** The records of a class, in template order, or null. */
     const std::vector<TemplateRecord>* classRecords(const String& class_id) const;
+    /** The level-0 size of each template of a class (its pyramid's first template), in template
+    order, or null: one flat array per class, what non-maximum suppression reads per match. */
+    const std::vector<Size>* classSizes(const String& class_id) const;
     /** The record of a template, or null. */
     const TemplateRecord* find(const String& class_id, int template_id) const;
     /** The record of a template; StsBadArg naming it when there is none. */
@@ -63,6 +66,7 @@ public:
 
 private:
     std::map<String, std::vector<TemplateRecord> > records_;
+    std::map<String, std::vector<Size> > sizes_;
 };
 
 /** LINEMOD's template extraction (every modality, every pyramid level, cropped to the features'

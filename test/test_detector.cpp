@@ -6,6 +6,8 @@
 #include "../src/model_check.hpp"
 #include "../src/scan.hpp"
 
+#include <set>
+
 namespace opencv_test { namespace {
 
 // A flat-coloured L-shaped object with a disc, drawn rotated by `angle` around `centre`.
@@ -614,6 +616,86 @@ TEST(Forestmod_Detector, any_image_size)
     std::vector<linemod::Match> matches;
     ASSERT_NO_THROW(det.match(std::vector<Mat>(1, scene), 80.f, matches));
     ASSERT_FALSE(matches.empty());
+}
+
+// match() returns its matches best first (Match::operator<), without repeats, and non-maximum
+// suppression keeps the greedy leaders of the boxes of their templates (each class's own sizes),
+// also in a model read back from a file (TemplateStore::setClass).
+TEST(Forestmod_Detector, matches_sorted_and_suppressed_by_their_templates_boxes)
+{
+    const std::vector<Ptr<linemod::Modality> > mods = gradientHue();
+    DetectorParams p;
+    p.use_forest = false;
+    p.nms_iou = 0.f;
+    cv::forestmod::Detector det(mods, Tpyr(), p);
+    addObjectTemplates(det, 8, "large", 0);
+    for (int i = 0; i < 6; ++i) // a second class of smaller boxes
+    {
+        Mat img = Mat::zeros(Size(640, 480), CV_8UC3), mask;
+        drawObject(img, &mask, Point2f(320, 240), -30.f + 12.f * i, 0.55f);
+        ASSERT_GE(det.addTemplate(std::vector<Mat>(2, img), "small", mask), 0) << i;
+    }
+    RNG rng(5);
+    Mat scene = clutter(Size(640, 480), rng);
+    drawObject(scene, 0, Point2f(220, 200), 8.f, 1.0f);
+    drawObject(scene, 0, Point2f(450, 330), -10.f, 0.55f);
+    const std::string file = cv::tempfile(".yml.gz");
+    det.save(file);
+    cv::forestmod::Detector loaded;
+    loaded.load(file);
+    remove(file.c_str());
+    cv::forestmod::Detector* dets[] = { &det, &loaded };
+    for (int k = 0; k < 2; ++k)
+    {
+        cv::forestmod::Detector& d = *dets[k];
+        DetectorParams q = d.getParams();
+        q.nms_iou = 0.f;
+        d.setParams(q);
+        std::vector<linemod::Match> all, kept;
+        d.match(std::vector<Mat>(2, scene), 65.f, all);
+        ASSERT_GT(all.size(), 20u) << k;
+        std::set<String> classes;
+        for (size_t i = 0; i < all.size(); ++i)
+        {
+            classes.insert(all[i].class_id);
+            if (i == 0)
+                continue;
+            EXPECT_FALSE(all[i] < all[i - 1]) << k << " match " << i;
+            EXPECT_FALSE(all[i] == all[i - 1]) << k << " repeat " << i;
+        }
+        EXPECT_EQ(2u, classes.size()) << k;
+        // the greedy definition on the boxes of the templates' level-0 sizes
+        const float iou = 0.5f;
+        std::vector<Rect> boxes;
+        for (size_t i = 0; i < all.size(); ++i)
+        {
+            const linemod::Template& t = d.getTemplates(all[i].class_id, all[i].template_id)[0];
+            boxes.push_back(Rect(all[i].x, all[i].y, std::max(1, t.width), std::max(1, t.height)));
+        }
+        std::vector<linemod::Match> expected;
+        std::vector<Rect> kept_boxes;
+        for (size_t i = 0; i < all.size(); ++i)
+        {
+            bool lead = true;
+            for (size_t j = 0; j < kept_boxes.size() && lead; ++j)
+            {
+                const double inter = (boxes[i] & kept_boxes[j]).area();
+                lead = !(inter / (boxes[i].area() + kept_boxes[j].area() - inter) > iou);
+            }
+            if (lead)
+            {
+                kept_boxes.push_back(boxes[i]);
+                expected.push_back(all[i]);
+            }
+        }
+        ASSERT_LT(expected.size(), all.size()) << k;
+        q.nms_iou = iou;
+        d.setParams(q);
+        d.match(std::vector<Mat>(2, scene), 65.f, kept);
+        expectSameMatches(expected, kept, k ? "loaded" : "built");
+        for (size_t i = 0; i < expected.size() && i < kept.size(); ++i)
+            EXPECT_EQ(expected[i].class_id, kept[i].class_id) << k << " match " << i;
+    }
 }
 
 TEST(Forestmod_Detector, threads_give_identical_results)
