@@ -121,4 +121,59 @@ TEST(Forestmod_Samples, detect_refuses_a_depth_image_as_colour)
         << text;
 }
 
+// forestmod_match_bench: a model built from untrained files is trained and written once, then
+// read (never overwritten); each frame's match count is that of match() in this process.
+TEST(Forestmod_Samples, match_bench_builds_once_and_counts_the_matches)
+{
+    const std::string exe = testBinaryDir() + "/forestmod_match_bench";
+    if (!utils::fs::exists(exe))
+        throw SkipTestException("forestmod_match_bench is not built (BUILD_EXAMPLES=OFF)");
+    const std::string root = cvtest::findDataFile("lmo_mini/camera.json");
+    const std::string dataset = root.substr(0, root.find_last_of('/'));
+    const std::string source = cvtest::findDataFile("golden/ape_rgb.yml.gz");
+    const std::string trained = cv::tempfile(".yml.gz"), out = cv::tempfile(".txt");
+    const std::string base = "'" + exe + "' --dataset='" + dataset + "' --trained='" + trained
+        + "' --frames=2 ";
+    std::string text[3];
+    int rc[3];
+    const std::string args[3] = { "", "--models='" + source + "'", "--models='" + source + "'" };
+    for (int k = 0; k < 3; ++k)
+    {
+        const std::string cmd = base + args[k] + " > '" + out + "' 2>&1";
+        rc[k] = std::system(cmd.c_str());
+        text[k] = slurp(out);
+    }
+    std::remove(out.c_str());
+    // without the trained file and without --models: refused
+    EXPECT_NE(0, rc[0]) << text[0];
+    EXPECT_NE(std::string::npos, text[0].find("--models when --trained does not exist"))
+        << text[0];
+    EXPECT_EQ(0, rc[1]) << text[1];
+    EXPECT_NE(std::string::npos, text[1].find("to build, train and write it")) << text[1];
+    EXPECT_EQ(0, rc[2]) << text[2];
+    EXPECT_NE(std::string::npos, text[2].find("to read it")) << text[2];
+    cv::forestmod::Detector det;
+    det.load(trained);
+    std::remove(trained.c_str());
+    std::vector<cv::String> files;
+    cv::glob(dataset + "/test/000002/rgb/*.png", files);
+    std::sort(files.begin(), files.end());
+    ASSERT_GE(files.size(), 2u);
+    for (int f = 0; f < 2; ++f)
+    {
+        std::vector<linemod::Match> m;
+        det.match(std::vector<Mat>(det.getModalities().size(), imread(files[f])), 80.f, m);
+        EXPECT_FALSE(m.empty()) << f;
+        const std::string line = cv::format("frame %d: ", f);
+        for (int k = 1; k < 3; ++k)
+        {
+            const size_t at = text[k].find(line);
+            ASSERT_NE(std::string::npos, at) << text[k];
+            const size_t ms = text[k].find(" ms, ", at);
+            ASSERT_NE(std::string::npos, ms) << text[k];
+            EXPECT_EQ((int)m.size(), std::atoi(text[k].c_str() + ms + 5)) << text[k];
+        }
+    }
+}
+
 }} // namespace
