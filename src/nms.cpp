@@ -5,11 +5,81 @@
 #include "precomp.hpp"
 #include "nms.hpp"
 
+#include "opencv2/core/hal/intrin.hpp"
+
 #include <climits>
 
 namespace cv {
 namespace forestmod {
 namespace detail {
+
+// A cell's kept boxes for suppressOverlaps, in blocks of 8 boxes stored field by field: 8
+// indices, then 8 doubled centres x, 8 y, 8 bounds x, 8 bounds y.
+enum
+{
+    KEPT_INDEX = 0,
+    KEPT_CX,
+    KEPT_CY,
+    KEPT_BX,
+    KEPT_BY,
+    KEPT_FIELDS,
+    KEPT_BLOCK = 8 * KEPT_FIELDS
+};
+
+// An unused slot: index INT_MAX (after every box), a centre no box's bound reaches (centres and
+// bounds are image coordinates, far below 2^28), bounds 0.
+static const int kFar = 1 << 28;
+static const int kUnusedSlots[KEPT_BLOCK] = {
+    INT_MAX, INT_MAX, INT_MAX, INT_MAX, INT_MAX, INT_MAX, INT_MAX, INT_MAX,
+    kFar, kFar, kFar, kFar, kFar, kFar, kFar, kFar,
+    kFar, kFar, kFar, kFar, kFar, kFar, kFar, kFar,
+    0, 0, 0, 0, 0, 0, 0, 0,
+    0, 0, 0, 0, 0, 0, 0, 0
+};
+
+static inline int lowestSetBit(unsigned m)
+{
+#if defined(__GNUC__)
+    return __builtin_ctz(m);
+#else
+    int i = 0;
+    while (!(m & 1u))
+    {
+        m >>= 1;
+        ++i;
+    }
+    return i;
+#endif
+}
+
+// Bit k set when kept box k of block `b` lies within the centres' bound of box `me` (its fields
+// as a block's): |dcx| <= max(bounds x) and |dcy| <= max(bounds y).
+static inline unsigned nearKept(const int* b, const int* me)
+{
+#if CV_SIMD128
+    const v_int32x4 cx = v_setall_s32(me[KEPT_CX]), cy = v_setall_s32(me[KEPT_CY]);
+    const v_int32x4 bx = v_setall_s32(me[KEPT_BX]), by = v_setall_s32(me[KEPT_BY]);
+    unsigned pass = 0;
+    for (int h = 0; h < 8; h += 4)
+    {
+        const v_int32x4 dx = v_reinterpret_as_s32(v_abs(cx - v_load(b + KEPT_CX * 8 + h)));
+        const v_int32x4 dy = v_reinterpret_as_s32(v_abs(cy - v_load(b + KEPT_CY * 8 + h)));
+        const v_int32x4 ok = (dx <= v_max(bx, v_load(b + KEPT_BX * 8 + h)))
+            & (dy <= v_max(by, v_load(b + KEPT_BY * 8 + h)));
+        pass |= (unsigned)v_signmask(ok) << h;
+    }
+    return pass;
+#else
+    unsigned pass = 0;
+    for (int k = 0; k < 8; ++k)
+        pass |= (unsigned)((std::abs(me[KEPT_CX] - b[KEPT_CX * 8 + k])
+                            <= std::max(me[KEPT_BX], b[KEPT_BX * 8 + k]))
+                           & (std::abs(me[KEPT_CY] - b[KEPT_CY * 8 + k])
+                              <= std::max(me[KEPT_BY], b[KEPT_BY * 8 + k])))
+            << k;
+    return pass;
+#endif
+}
 
 void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int>& leader)
 {
@@ -46,21 +116,19 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
         ch *= 2;
     }
     const int gx = (x1 - x0) / cw + 1, gy = (y1 - y0) / ch + 1;
-    // a kept box in its cell: its index, doubled centre and the centres' bounds for its width and
-    // height, floor(reach x side + 1) (the bound for two boxes is the larger of their two)
-    struct Kept
-    {
-        int index, cx, cy, bound_x, bound_y;
-    };
-    std::vector<std::vector<Kept> > grid((size_t)gx * gy);
+    // the kept boxes of a cell in blocks of 8, field by field (KeptBlocks): index, doubled
+    // centre, and the centres' bounds for its width and height, floor(reach x side + 1) (the bound
+    // for two boxes is the larger of their two); a block's unused slots fail every bound
+    std::vector<std::vector<int> > grid((size_t)gx * gy);
+    std::vector<int> count((size_t)gx * gy, 0);
     const double reach = 2.0 * (1.0 - iou);
     for (int i = 0; i < n; ++i)
     {
         const Rect& a = boxes[i];
-        const Kept me = { i, 2 * a.x + a.width, 2 * a.y + a.height,
-                          (int)std::floor(reach * a.width + 1),
-                          (int)std::floor(reach * a.height + 1) };
-        const int cx = (me.cx - x0) / cw, cy = (me.cy - y0) / ch;
+        const int me[KEPT_FIELDS] = { i, 2 * a.x + a.width, 2 * a.y + a.height,
+                                      (int)std::floor(reach * a.width + 1),
+                                      (int)std::floor(reach * a.height + 1) };
+        const int cx = (me[KEPT_CX] - x0) / cw, cy = (me[KEPT_CY] - y0) / ch;
         // its own cell first (a leader found there cuts the others short), then the 8 around
         int cells[9], n_cells = 0;
         cells[n_cells++] = cy * gx + cx;
@@ -70,30 +138,26 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
                     cells[n_cells++] = y * gx + x;
         for (int c = 0; c < n_cells; ++c)
         {
-            const std::vector<Kept>& kept = grid[(size_t)cells[c]];
-            const int end = static_cast<int>(kept.size());
-            // the centres' bound of 8 kept boxes at a time, without branches (most kept boxes
-            // nearby fail it), then the overlaps of those that pass, in order
+            const std::vector<int>& kept = grid[(size_t)cells[c]];
+            const int blocks = static_cast<int>(kept.size()) / KEPT_BLOCK;
+            // the centres' bound of a block's 8 kept boxes at once (most kept boxes nearby fail
+            // it), then the overlaps of those that pass, in order
             bool found = false;
-            for (int k0 = 0; k0 < end && !found && (leader[i] < 0 || kept[k0].index < leader[i]);
-                 k0 += 8)
+            for (int k = 0; k < blocks && !found; ++k)
             {
-                int near[8], m = 0;
-                for (int k = k0; k < std::min(end, k0 + 8); ++k)
+                const int* b = &kept[(size_t)k * KEPT_BLOCK];
+                if (leader[i] >= 0 && b[KEPT_INDEX * 8] > leader[i])
+                    break;
+                unsigned pass = nearKept(b, me);
+                while (pass && !found)
                 {
-                    const Kept& b = kept[k];
-                    near[m] = b.index;
-                    m += (std::abs(me.cx - b.cx) <= std::max(me.bound_x, b.bound_x))
-                         & (std::abs(me.cy - b.cy) <= std::max(me.bound_y, b.bound_y));
-                }
-                for (int k = 0; k < m && !found; ++k)
-                {
-                    const int j = near[k];
+                    const int j = b[KEPT_INDEX * 8 + lowestSetBit(pass)];
+                    pass &= pass - 1;
                     if (leader[i] >= 0 && j > leader[i])
                         break;
-                    const Rect& b = boxes[j];
-                    const double inter = (a & b).area();
-                    const double uni = a.area() + b.area() - inter;
+                    const Rect& o = boxes[j];
+                    const double inter = (a & o).area();
+                    const double uni = a.area() + o.area() - inter;
                     if (uni > 0 && inter / uni > iou)
                     {
                         leader[i] = j;
@@ -103,7 +167,16 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
             }
         }
         if (leader[i] < 0)
-            grid[(size_t)cy * gx + cx].push_back(me);
+        {
+            const size_t cell = (size_t)cy * gx + cx;
+            std::vector<int>& kept = grid[cell];
+            const int slot = count[cell]++ % 8;
+            if (slot == 0)
+                kept.insert(kept.end(), kUnusedSlots, kUnusedSlots + KEPT_BLOCK);
+            int* b = &kept[kept.size() - KEPT_BLOCK];
+            for (int f = 0; f < KEPT_FIELDS; ++f)
+                b[f * 8 + slot] = me[f];
+        }
     }
 }
 
