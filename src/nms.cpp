@@ -37,21 +37,6 @@ static const int kUnusedSlots[KEPT_BLOCK] = {
     0, 0, 0, 0, 0, 0, 0, 0
 };
 
-static inline int lowestSetBit(unsigned m)
-{
-#if defined(__GNUC__)
-    return __builtin_ctz(m);
-#else
-    int i = 0;
-    while (!(m & 1u))
-    {
-        m >>= 1;
-        ++i;
-    }
-    return i;
-#endif
-}
-
 // Bit k set when kept box k of block `b` lies within the centres' bound of box `me` (its fields
 // as a block's): |dcx| <= max(bounds x) and |dcy| <= max(bounds y).
 static inline unsigned nearKept(const int* b, const int* me)
@@ -148,11 +133,12 @@ void suppressOverlaps(const std::vector<Rect>& boxes, float iou, std::vector<int
                 const int* b = &kept[(size_t)k * KEPT_BLOCK];
                 if (leader[i] >= 0 && b[KEPT_INDEX * 8] > leader[i])
                     break;
-                unsigned pass = nearKept(b, me);
-                while (pass && !found)
+                const unsigned pass = nearKept(b, me);
+                for (int bit = 0; (pass >> bit) && !found; ++bit)
                 {
-                    const int j = b[KEPT_INDEX * 8 + lowestSetBit(pass)];
-                    pass &= pass - 1;
+                    if (!((pass >> bit) & 1u))
+                        continue;
+                    const int j = b[KEPT_INDEX * 8 + bit];
                     if (leader[i] >= 0 && j > leader[i])
                         break;
                     const Rect& o = boxes[j];
