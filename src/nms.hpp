@@ -13,7 +13,6 @@ namespace cv {
 namespace forestmod {
 namespace detail {
 
-
 /** Greedy non-maximum suppression of boxes sorted best first, iou in (0, 1): leader[i] = -1
 when box i is kept (no kept box before it overlaps it by more than `iou`, intersection over
 union), else the index of the first kept box that does. */
