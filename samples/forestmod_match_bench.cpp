@@ -87,6 +87,14 @@ int main(int argc, char** argv)
     cv::setNumThreads(parser.get<int>("threads"));
     try
     {
+        // the frames first: a model is not built (and written) for a scene that lacks them
+        std::vector<cv::String> files;
+        cv::glob(cv::format("%s/test/%06d/rgb/*.png", dataset.c_str(),
+                            parser.get<int>("scene")), files);
+        std::sort(files.begin(), files.end());
+        if ((int)files.size() < first + frames)
+            CV_Error_(cv::Error::StsBadArg, ("the scene has %d frames, not %d from %d",
+                                             (int)files.size(), frames, first));
         cv::TickMeter tm;
         tm.start();
         cv::Ptr<fm::Detector> det;
@@ -102,13 +110,6 @@ int main(int argc, char** argv)
             det->save(trained);
         }
         tm.stop();
-        std::vector<cv::String> files;
-        cv::glob(cv::format("%s/test/%06d/rgb/*.png", dataset.c_str(),
-                            parser.get<int>("scene")), files);
-        std::sort(files.begin(), files.end());
-        if ((int)files.size() < first + frames)
-            CV_Error_(cv::Error::StsBadArg, ("the scene has %d frames, not %d from %d",
-                                             (int)files.size(), frames, first));
         printf("model: %d classes, %d templates, %.1f s to %s it\n", (int)det->classIds().size(),
                det->numTemplates(), tm.getTimeSec(), built ? "build, train and write" : "read");
         const size_t n_mod = det->getModalities().size();
